@@ -1,0 +1,1 @@
+pub use afford_planner as planner;
