@@ -1,1 +1,3 @@
+//! afford: the facade crate. Re-exports the library crates.
+pub use afford_collision as collision;
 pub use afford_planner as planner;

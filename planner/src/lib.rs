@@ -1,0 +1,41 @@
+//! # afford-planner
+//!
+//! From a scenario (what the overhead camera and the microphone deliver) to a
+//! discrete, verified grid plan, after Munguia-Galeano et al., "Affordance-Based
+//! Human–Robot Interaction With Reinforcement Learning" (IEEE Access 2023):
+//!
+//! | stage | module | paper |
+//! |---|---|---|
+//! | scenario file | [`scenario`] | semantic set O, eq. (4) |
+//! | sub-goals | [`instruction`] | Algorithm 1 |
+//! | state grid | [`grid`] | Algorithm 2 |
+//! | task (MDP) | [`task`] | actions, eq. (5) |
+//! | affordances, initial Q | [`affordance`] | eq. (7)–(9) |
+//! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
+//! | oracle | [`oracle`] | — (BFS, for measurement) |
+//! | pipeline | [`plan`] | Fig. 2 |
+//!
+//! ```
+//! let scenario = afford_planner::scenario::default_scenario().unwrap();
+//! let plan = afford_planner::plan::plan_grid(&scenario, 1).unwrap();
+//! assert!(plan.unsolved.is_empty());
+//! assert_eq!(plan.subgoals[0].actions.last().unwrap().name(), "DROP");
+//! ```
+
+pub mod affordance;
+pub mod bench;
+pub mod cql;
+pub mod error;
+pub mod grid;
+pub mod instruction;
+pub mod oracle;
+pub mod plan;
+pub mod scenario;
+pub mod task;
+
+pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
+pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};
+pub use grid::{CellCode, StateGrid};
+pub use plan::{GridPlan, plan_grid};
+pub use scenario::Scenario;
+pub use task::{Action, GridTask};

@@ -1,0 +1,142 @@
+//! `afford bench cql`: CQL and plain QL on seeded scenes, measured against the
+//! BFS oracle, summarised like the paper's Table 1.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::{generator, mean, median};
+use crate::cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
+use crate::grid::{GridRequest, StateGrid};
+use crate::oracle;
+use crate::task::GridTask;
+
+/// Benchmark parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CqlBenchConfig {
+    pub scenarios: usize,
+    pub seed: u64,
+    pub settings: LearnerSettings,
+}
+
+impl Default for CqlBenchConfig {
+    fn default() -> Self {
+        Self { scenarios: 100, seed: 1, settings: LearnerSettings::default() }
+    }
+}
+
+/// One learner's row of the table.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct LearnerSummary {
+    /// Share of solvable scenes whose greedy plan completes the task.
+    pub success_rate: f64,
+    pub mean_steps: f64,
+    pub median_steps: f64,
+    pub mean_ms: f64,
+    pub median_ms: f64,
+    /// Mean over solved scenes of plan length / optimal length.
+    pub mean_length_over_optimal: f64,
+}
+
+/// The whole table.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct CqlBenchReport {
+    pub scenarios: usize,
+    /// Scenes the BFS oracle can solve; rates are over these.
+    pub solvable: usize,
+    pub cql: LearnerSummary,
+    pub ql: LearnerSummary,
+    /// Grid sizes seen, cells: smallest and largest n·m.
+    pub cells_min: usize,
+    pub cells_max: usize,
+}
+
+/// One learner's raw results.
+#[derive(Default)]
+struct Samples {
+    solved: usize,
+    steps: Vec<f64>,
+    ms: Vec<f64>,
+    ratio: Vec<f64>,
+}
+
+impl Samples {
+    fn record(&mut self, plan: &LearnedPlan, ms: f64, optimal: usize) {
+        self.steps.push(plan.training_steps as f64);
+        self.ms.push(ms);
+        if plan.solved {
+            self.solved += 1;
+            self.ratio.push(plan.actions.len() as f64 / optimal as f64);
+        }
+    }
+
+    fn summary(&self, solvable: usize) -> LearnerSummary {
+        LearnerSummary {
+            success_rate: if solvable == 0 { 0.0 } else { self.solved as f64 / solvable as f64 },
+            mean_steps: mean(&self.steps),
+            median_steps: median(&self.steps),
+            mean_ms: mean(&self.ms),
+            median_ms: median(&self.ms),
+            mean_length_over_optimal: mean(&self.ratio),
+        }
+    }
+}
+
+/// Runs the benchmark; `progress` is called after each scene.
+pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBenchReport {
+    let cql = ContextualQLearner::new(config.settings.clone());
+    let ql = QLearner::new(config.settings.clone());
+    let (mut c, mut q) = (Samples::default(), Samples::default());
+    let mut report = CqlBenchReport { scenarios: config.scenarios, cells_min: usize::MAX, ..Default::default() };
+    for index in 0..config.scenarios {
+        let scene = generator::scene(config.seed, index);
+        let request = GridRequest { object: 0, goal: 0, gripper: scene.robot.start };
+        let grid = StateGrid::build(&scene, request);
+        report.cells_min = report.cells_min.min(grid.len());
+        report.cells_max = report.cells_max.max(grid.len());
+        let task = GridTask::new(grid.clone());
+        if let Some(optimal) = oracle::optimal_length(&task) {
+            report.solvable += 1;
+            let seed = config.seed.wrapping_add(index as u64);
+            let (plan, ms) = timed(|| cql.learn(&GridTask::new(grid.clone()), seed));
+            c.record(&plan, ms, optimal);
+            let (plan, ms) = timed(|| ql.learn(&GridTask::new(grid.clone()), seed));
+            q.record(&plan, ms, optimal);
+        }
+        progress(index + 1);
+    }
+    report.cql = c.summary(report.solvable);
+    report.ql = q.summary(report.solvable);
+    report
+}
+
+/// Runs `f`, returning its value and the wall time in milliseconds. The task
+/// is built inside `f`, so the time covers affordances and the initial table.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let value = f();
+    (value, t.elapsed().as_secs_f64() * 1e3)
+}
+
+impl CqlBenchReport {
+    /// The table as text, like the paper's Table 1.
+    pub fn table(&self) -> String {
+        let mut out = format!(
+            "{} scenes ({} solvable by the BFS oracle), grids of {}..{} cells\n\n",
+            self.scenarios, self.solvable, self.cells_min, self.cells_max
+        );
+        out.push_str("algorithm  success  mean steps  median steps  mean ms  median ms  length/optimal\n");
+        for (name, s) in [("CQL", &self.cql), ("QL", &self.ql)] {
+            out.push_str(&format!(
+                "{name:<9}  {:>6.1}%  {:>10.0}  {:>12.0}  {:>7.2}  {:>9.2}  {:>14.3}\n",
+                s.success_rate * 100.0,
+                s.mean_steps,
+                s.median_steps,
+                s.mean_ms,
+                s.median_ms,
+                s.mean_length_over_optimal
+            ));
+        }
+        out
+    }
+}

@@ -1,0 +1,99 @@
+//! Seeded scene configurations like the paper's first experiment: each has its
+//! own start, target, goal and obstacles, on grids from 10×10 to 40×40 cells;
+//! some carry hands, sensitive objects and walls across the straight route.
+//!
+//! Scenes are full [`Scenario`]s (one object to move), so the benchmark runs
+//! the same grid construction as `afford plan`. The synthetic camera maps one
+//! target box to 4 cm, so the default margins span ½ cell (obstacles),
+//! 1½ cells (sensitive) and 2½ cells (hands).
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::cql::LearnerSettings;
+use crate::scenario::{Camera, Goal, Hand, Object, PixelBox, RobotSpec, Safety, Scenario, FORMAT_VERSION};
+
+/// Side of one cell on the table, metres.
+const CELL_METRES: f64 = 0.04;
+const COLOURS: [&str; 5] = ["red", "green", "yellow", "black", "white"];
+const SHAPES: [&str; 4] = ["square", "hexagon", "triangle", "circle"];
+
+/// Scene number `index` of the seeded series `seed`.
+pub fn scene(seed: u64, index: usize) -> Scenario {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (index as u64).wrapping_mul(0xA24B_AED4_963E_E407));
+    let (cw, cl) = (rng.random_range(24..=48) as f64, rng.random_range(24..=48) as f64);
+    let (m, n) = (rng.random_range(10..=40), rng.random_range(10..=40));
+    let (width, height) = (m as f64 * cw, n as f64 * cl);
+    let cell = |rng: &mut ChaCha8Rng| [rng.random_range(0..m) as f64 * cw, rng.random_range(0..n) as f64 * cl];
+    let target = cell(&mut rng);
+    let goal_size = [rng.random_range(1..=3) as f64 * cw, rng.random_range(1..=3) as f64 * cl];
+    let goal_at = [rng.random_range(0.0..width - goal_size[0]), rng.random_range(0.0..height - goal_size[1])];
+    let start = cell(&mut rng);
+    let mut objects = vec![Object {
+        name: "target".into(),
+        color: "blue".into(),
+        shape: "square".into(),
+        bbox: PixelBox { u: target[0], v: target[1], w: cw, l: cl },
+        height: 0.03,
+    }];
+    let clutter = (m * n) as f64 * rng.random_range(0.01..0.05);
+    for k in 0..clutter as usize {
+        let size = [rng.random_range(0.4..1.5) * cw, rng.random_range(0.4..1.5) * cl];
+        objects.push(Object {
+            name: format!("obstacle-{k}"),
+            color: COLOURS[rng.random_range(0..COLOURS.len())].into(),
+            shape: SHAPES[rng.random_range(0..SHAPES.len())].into(),
+            bbox: random_box(&mut rng, size, [width, height]),
+            height: 0.03,
+        });
+    }
+    if rng.random_bool(0.35) {
+        objects.push(wall(&mut rng, [cw, cl], [width, height], objects.len()));
+    }
+    let hands = (0..if rng.random_bool(0.3) { rng.random_range(1..=2) } else { 0 })
+        .map(|k| Hand {
+            name: format!("hand-{k}"),
+            bbox: random_box(&mut rng, [1.5 * cw, 2.0 * cl], [width, height]),
+            height: 0.08,
+        })
+        .collect();
+    let sensitive = if rng.random_bool(0.3) { vec!["yellow".to_string()] } else { Vec::new() };
+    let px_to_m = CELL_METRES / cw.max(cl);
+    Scenario {
+        afford: FORMAT_VERSION,
+        name: Some(format!("bench-{seed}-{index}")),
+        camera: Camera {
+            width: width.ceil() as u32,
+            height: height.ceil() as u32,
+            pixel_to_base: [[0.0, -px_to_m, 0.8], [-px_to_m, 0.0, 0.4]],
+            table_z: -0.2,
+        },
+        robot: RobotSpec { model: "kuka_iiwa14".into(), start: [start[0] + cw / 2.0, start[1] + cl / 2.0] },
+        objects,
+        goals: vec![Goal { name: "goal".into(), bbox: PixelBox { u: goal_at[0], v: goal_at[1], w: goal_size[0], l: goal_size[1] }, height: 0.1 }],
+        hands,
+        sensitive,
+        safety: Safety::default(),
+        instruction: "put the target in the goal".into(),
+        pointing: None,
+        learner: LearnerSettings::default(),
+    }
+}
+
+fn random_box(rng: &mut ChaCha8Rng, [w, l]: [f64; 2], [width, height]: [f64; 2]) -> PixelBox {
+    PixelBox { u: rng.random_range(0.0..width - w), v: rng.random_range(0.0..height - l), w, l }
+}
+
+/// A long thin object (a ruler, a tray edge) across part of the table.
+fn wall(rng: &mut ChaCha8Rng, [cw, cl]: [f64; 2], image: [f64; 2], k: usize) -> Object {
+    let horizontal = rng.random_bool(0.5);
+    let fraction = rng.random_range(0.4..0.8);
+    let size = if horizontal { [image[0] * fraction, 0.3 * cl] } else { [0.3 * cw, image[1] * fraction] };
+    Object {
+        name: format!("wall-{k}"),
+        color: "white".into(),
+        shape: "rectangle".into(),
+        bbox: random_box(rng, size, image),
+        height: 0.05,
+    }
+}

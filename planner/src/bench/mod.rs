@@ -1,0 +1,22 @@
+//! Benchmarks behind `afford bench`: seeded scene generation and the CQL
+//! experiment that reproduces the paper's Table 1 (CQL against QL, measured
+//! against the BFS oracle).
+
+pub mod cql;
+pub mod generator;
+
+/// Median of a sample (mean of the two middle values); 0 when empty.
+pub fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 { v[n / 2] } else { (v[n / 2 - 1] + v[n / 2]) / 2.0 }
+}
+
+/// Arithmetic mean; 0 when empty.
+pub fn mean(values: &[f64]) -> f64 {
+    if values.is_empty() { 0.0 } else { values.iter().sum::<f64>() / values.len() as f64 }
+}

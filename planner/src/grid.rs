@@ -1,0 +1,261 @@
+//! The state grid s (the paper's Algorithm 2): the camera image cut into cells
+//! the size of the current target's box, each coded 0 empty, 0.1 target,
+//! 0.2 obstacle, 0.3 goal, 0.4 hand.
+//!
+//! Reading choices (the paper's pseudo-code is garbled):
+//! - The grid is aligned so the target's box is exactly one cell; a cell
+//!   exists when its centre lies inside the image, so the grid covers the
+//!   whole image and may hold one more row or column than `ceil(sh / l)`.
+//! - An element covers a cell when its box, grown by its safety margin
+//!   (metres converted to pixels along u and v with `pixel_to_base`),
+//!   overlaps the cell at all: conservative, these are cells the gripper
+//!   must never enter.
+//! - Painting order, later wins: goal 0.3, obstacles 0.2 (every other object,
+//!   including other targets, and every other goal with what rests in it),
+//!   hands 0.4, and finally the target 0.1 unless a hand covers it. Objects
+//!   already resting in the sub-goal's own goal are part of that goal.
+
+use crate::scenario::{PixelBox, Scenario};
+
+/// The semantic code of a cell, with the paper's numeric values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CellCode {
+    Empty,
+    Target,
+    Obstacle,
+    Goal,
+    Hand,
+}
+
+impl CellCode {
+    /// The paper's numeric token: 0, 0.1, 0.2, 0.3, 0.4.
+    pub fn value(self) -> f64 {
+        match self {
+            Self::Empty => 0.0,
+            Self::Target => 0.1,
+            Self::Obstacle => 0.2,
+            Self::Goal => 0.3,
+            Self::Hand => 0.4,
+        }
+    }
+
+    /// Cells the gripper must never enter.
+    pub fn is_blocked(self) -> bool {
+        matches!(self, Self::Obstacle | Self::Hand)
+    }
+}
+
+/// A grid cell, `(row, col)`; rows grow with v, columns with u.
+pub type Cell = (usize, usize);
+
+/// The state matrix s of one sub-goal plus the geometry that maps cells back
+/// to pixels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateGrid {
+    /// n: number of rows (along v).
+    pub rows: usize,
+    /// m: number of columns (along u).
+    pub cols: usize,
+    /// Pixel (u, v) of the top-left corner of cell (0, 0).
+    pub origin: [f64; 2],
+    /// Cell size in pixels (w, l): the target's box.
+    pub cell_size: [f64; 2],
+    codes: Vec<CellCode>,
+    /// Where the gripper starts.
+    pub start: Cell,
+    /// The target's cell.
+    pub target: Cell,
+    /// Where the GOAL action carries the object: the goal cell nearest the
+    /// goal box's centre. `None` when perimeters cover the whole goal.
+    pub drop: Option<Cell>,
+}
+
+/// What one sub-goal puts where: indices into the scenario's objects/goals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridRequest {
+    pub object: usize,
+    pub goal: usize,
+    /// Gripper position, pixel (u, v).
+    pub gripper: [f64; 2],
+}
+
+impl StateGrid {
+    /// Builds the grid for moving `scenario.objects[req.object]` into
+    /// `scenario.goals[req.goal]` with the gripper at `req.gripper`.
+    pub fn build(scenario: &Scenario, req: GridRequest) -> Self {
+        let target_box = scenario.objects[req.object].bbox;
+        let cell_size = [target_box.w, target_box.l];
+        let image = [scenario.camera.width as f64, scenario.camera.height as f64];
+        let origin = [0, 1].map(|k| aligned_origin(target_box_start(&target_box, k), cell_size[k]));
+        let count = |k: usize| (((image[k] - origin[k]) / cell_size[k] - 0.5).ceil().max(1.0)) as usize;
+        let mut grid = Self {
+            rows: count(1),
+            cols: count(0),
+            origin,
+            cell_size,
+            codes: Vec::new(),
+            start: (0, 0),
+            target: (0, 0),
+            drop: None,
+        };
+        grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
+        grid.start = grid.cell_at(req.gripper);
+        grid.target = grid.cell_at(target_box.centre());
+        grid.paint_scene(scenario, req);
+        grid.drop = grid.nearest_goal_cell(scenario.goals[req.goal].bbox.centre());
+        grid
+    }
+
+    fn paint_scene(&mut self, s: &Scenario, req: GridRequest) {
+        let [mu, mv] = s.metres_per_pixel();
+        let px = |metres: f64| [metres / mu, metres / mv];
+        self.paint(s.goals[req.goal].bbox, [0.0, 0.0], CellCode::Goal);
+        for (_, goal) in s.goals.iter().enumerate().filter(|&(i, _)| i != req.goal) {
+            self.paint(goal.bbox, px(s.safety.obstacle_margin), CellCode::Obstacle);
+        }
+        for (i, object) in s.objects.iter().enumerate() {
+            if i == req.object || s.goal_holding(object) == Some(req.goal) {
+                continue;
+            }
+            let margin = if s.is_sensitive(object) { s.safety.sensitive_margin } else { s.safety.obstacle_margin };
+            self.paint(object.bbox, px(margin), CellCode::Obstacle);
+        }
+        for hand in &s.hands {
+            self.paint(hand.bbox, px(s.safety.hand_margin), CellCode::Hand);
+        }
+        if self.code(self.target) != CellCode::Hand {
+            self.set(self.target, CellCode::Target);
+        }
+    }
+
+    /// Marks every cell the box, grown by `margin` pixels, overlaps.
+    fn paint(&mut self, bbox: PixelBox, [du, dv]: [f64; 2], code: CellCode) {
+        let b = bbox.grown(du, dv);
+        let Some((r0, r1)) = self.span(b.v, b.l, 1) else { return };
+        let Some((c0, c1)) = self.span(b.u, b.w, 0) else { return };
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                self.set((r, c), code);
+            }
+        }
+    }
+
+    /// Inclusive range of cell indices along axis `k` that the open interval
+    /// (start, start + len) overlaps; `None` when it misses the grid.
+    fn span(&self, start: f64, len: f64, k: usize) -> Option<(usize, usize)> {
+        const EPS: f64 = 1e-9;
+        let n = if k == 0 { self.cols } else { self.rows } as f64;
+        let lo = ((start - self.origin[k]) / self.cell_size[k] + EPS).floor().max(0.0);
+        let hi = (((start + len - self.origin[k]) / self.cell_size[k] - EPS).ceil() - 1.0).min(n - 1.0);
+        (lo <= hi).then_some((lo as usize, hi as usize))
+    }
+
+    /// The cell containing pixel `p`, clamped onto the grid.
+    pub fn cell_at(&self, p: [f64; 2]) -> Cell {
+        let idx = |k: usize, n: usize| {
+            (((p[k] - self.origin[k]) / self.cell_size[k]).floor().max(0.0) as usize).min(n - 1)
+        };
+        (idx(1, self.rows), idx(0, self.cols))
+    }
+
+    /// Pixel centre (u, v) of a cell.
+    pub fn centre(&self, (r, c): Cell) -> [f64; 2] {
+        [
+            self.origin[0] + (c as f64 + 0.5) * self.cell_size[0],
+            self.origin[1] + (r as f64 + 0.5) * self.cell_size[1],
+        ]
+    }
+
+    pub fn code(&self, (r, c): Cell) -> CellCode {
+        self.codes[r * self.cols + c]
+    }
+
+    fn set(&mut self, (r, c): Cell, code: CellCode) {
+        self.codes[r * self.cols + c] = code;
+    }
+
+    /// Number of cells, n·m.
+    pub fn len(&self) -> usize {
+        self.codes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.codes.is_empty()
+    }
+
+    /// Row-major cell index.
+    pub fn index(&self, (r, c): Cell) -> usize {
+        r * self.cols + c
+    }
+
+    /// Cell of a row-major index.
+    pub fn cell(&self, index: usize) -> Cell {
+        (index / self.cols, index % self.cols)
+    }
+
+    /// All codes, row-major.
+    pub fn codes(&self) -> &[CellCode] {
+        &self.codes
+    }
+
+    /// The matrix s with the paper's numeric values, row by row.
+    pub fn matrix(&self) -> Vec<Vec<f64>> {
+        self.codes.chunks(self.cols).map(|row| row.iter().map(|c| c.value()).collect()).collect()
+    }
+
+    /// The goal cell nearest pixel `p` (ties: lowest index).
+    fn nearest_goal_cell(&self, p: [f64; 2]) -> Option<Cell> {
+        (0..self.len())
+            .map(|i| self.cell(i))
+            .filter(|&cell| self.code(cell) == CellCode::Goal)
+            .min_by(|&a, &b| dist2(self.centre(a), p).total_cmp(&dist2(self.centre(b), p)))
+    }
+
+    /// Marks a cell blocked; used when a later check finds a place the grid
+    /// did not see (an elbow over a tall object) or to build test grids.
+    pub fn block(&mut self, cell: Cell) {
+        self.set(cell, CellCode::Obstacle);
+    }
+
+    /// A grid given directly by its codes (tests, benchmarks). Cell size is
+    /// 1 px, origin 0; `drop` is the goal cell nearest the goal cells' centroid.
+    pub fn from_codes(rows: usize, cols: usize, codes: Vec<CellCode>, start: Cell) -> Option<Self> {
+        if rows == 0 || cols == 0 || codes.len() != rows * cols {
+            return None;
+        }
+        let target = codes.iter().position(|&c| c == CellCode::Target)?;
+        let mut grid = Self {
+            rows,
+            cols,
+            origin: [0.0, 0.0],
+            cell_size: [1.0, 1.0],
+            codes,
+            start,
+            target: (target / cols, target % cols),
+            drop: None,
+        };
+        let goals: Vec<[f64; 2]> =
+            (0..grid.len()).filter(|&i| grid.codes[i] == CellCode::Goal).map(|i| grid.centre(grid.cell(i))).collect();
+        if !goals.is_empty() {
+            let n = goals.len() as f64;
+            let centroid = [goals.iter().map(|p| p[0]).sum::<f64>() / n, goals.iter().map(|p| p[1]).sum::<f64>() / n];
+            grid.drop = grid.nearest_goal_cell(centroid);
+        }
+        Some(grid)
+    }
+}
+
+fn target_box_start(b: &PixelBox, k: usize) -> f64 {
+    if k == 0 { b.u } else { b.v }
+}
+
+/// The grid origin along one axis: a whole number of cells before the
+/// target's box start, chosen so the first cell's centre is the first one
+/// at or after pixel 0.
+fn aligned_origin(target_start: f64, size: f64) -> f64 {
+    target_start - ((target_start + size / 2.0) / size).floor() * size
+}
+
+fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
+}

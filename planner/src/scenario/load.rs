@@ -1,0 +1,116 @@
+//! Reading scenario files: YAML or JSON by extension, parsed with serde and
+//! then validated. Errors name the file, the field path and, where the parser
+//! gives it, the line and column.
+
+use std::cell::RefCell;
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+
+use super::{Scenario, validate};
+use crate::error::{FieldIssue, ScenarioError};
+
+/// Text format of a scenario file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Yaml,
+    Json,
+}
+
+impl Format {
+    /// The format a file name's extension stands for.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "yaml" | "yml" => Some(Self::Yaml),
+            "json" => Some(Self::Json),
+            _ => None,
+        }
+    }
+}
+
+/// Reads, parses and validates the scenario at `path`.
+pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
+    let file = path.display().to_string();
+    let format =
+        Format::from_path(path).ok_or_else(|| ScenarioError::Extension { file: file.clone() })?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ScenarioError::Io { file: file.clone(), message: e.to_string() })?;
+    parse(&text, format, &file)
+}
+
+/// Parses and validates scenario text; `file` is the name used in errors.
+pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, ScenarioError> {
+    let scenario: Scenario = match format {
+        Format::Json => parse_json(text, file)?,
+        Format::Yaml => parse_yaml(text, file)?,
+    };
+    let issues = validate::validate(&scenario);
+    if issues.is_empty() {
+        Ok(scenario)
+    } else {
+        Err(ScenarioError::Invalid { file: file.to_string(), issues })
+    }
+}
+
+fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, ScenarioError> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let field = field_path(e.path());
+        let inner = e.into_inner();
+        let (line, column) = (inner.line() as u64, inner.column() as u64);
+        let message = strip_location(&inner.to_string());
+        ScenarioError::Parse {
+            file: file.to_string(),
+            issue: FieldIssue::new(field, message),
+            line: (line > 0).then_some(line),
+            column: (line > 0).then_some(column),
+        }
+    })
+}
+
+fn parse_yaml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, ScenarioError> {
+    let path = RefCell::new(String::new());
+    let options = serde_saphyr::options! { with_snippet: false };
+    let result = serde_saphyr::with_deserializer_from_str_with_options(text, options, |de| {
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            *path.borrow_mut() = field_path(e.path());
+            e.into_inner()
+        })
+    });
+    result.map_err(|e| {
+        let location = e.location();
+        ScenarioError::Parse {
+            file: file.to_string(),
+            issue: FieldIssue::new(path.into_inner(), strip_location(&e.to_string())),
+            line: location.map(|l| l.line()),
+            column: location.map(|l| l.column()),
+        }
+    })
+}
+
+/// `objects[2].box` style path; empty at the document root.
+fn field_path(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let mut out = String::new();
+    for segment in path.iter() {
+        match segment {
+            Segment::Seq { index } => out.push_str(&format!("[{index}]")),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(key);
+            }
+            Segment::Unknown => {}
+        }
+    }
+    out
+}
+
+/// Parsers append " at line L column C"; the error prints its own location.
+fn strip_location(message: &str) -> String {
+    match message.find(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}

@@ -1,0 +1,41 @@
+//! `afford plan`: scenario file → discrete plan.
+
+use afford_planner::scenario::{self, Scenario};
+use afford_planner::{PlanError, plan_grid};
+
+use super::output::{emit, render};
+use super::{ExitKind, Failure, PlanArgs};
+
+pub fn run(args: &PlanArgs) -> Result<(), Failure> {
+    let mut scenario = load(args)?;
+    if scenario.name.is_none() {
+        scenario.name = Some(source_name(args));
+    }
+    let plan = plan_grid(&scenario, args.seed).map_err(|e| match e {
+        PlanError::Scenario(_) => Failure::new(ExitKind::BadInput, e.to_string()),
+        _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
+    })?;
+    emit(&render(&plan, args.format)?, args.output.as_deref())?;
+    if plan.unsolved.is_empty() {
+        return Ok(());
+    }
+    let reasons: Vec<String> =
+        plan.unsolved.iter().map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason)).collect();
+    Err(Failure::new(ExitKind::CouldNotPlan, format!("some sub-goals could not be planned:\n  - {}", reasons.join("\n  - "))))
+}
+
+/// The scenario from the file argument, or the embedded default.
+pub fn load(args: &PlanArgs) -> Result<Scenario, Failure> {
+    let loaded = match &args.scenario {
+        Some(path) => scenario::load(path),
+        None => scenario::default_scenario(),
+    };
+    loaded.map_err(|e| Failure::new(ExitKind::BadInput, e.to_string()))
+}
+
+fn source_name(args: &PlanArgs) -> String {
+    match &args.scenario {
+        Some(path) => path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned()),
+        None => scenario::DEFAULT_SCENARIO_NAME.to_string(),
+    }
+}
