@@ -1,1 +1,26 @@
-pub fn placeholder() {}
+//! afford-kinematics: robot models, forward and inverse kinematics.
+//!
+//! - [`RobotModel`] loads a built-in robot (`kuka_iiwa14`, `care_o_bot4`) or a
+//!   user URDF with its description YAML, and gives the pose of any link.
+//! - [`Arm`] is one serial chain (base to grasp point) inside the model.
+//! - IK solves `FK(q) = target` for a 6-D pose or a top-down grasp with a
+//!   damped least-squares / Levenberg-Marquardt iteration with hard joint limits
+//!   and a posture task in the null space (see `DESIGN.md`).
+//!
+//! One pose type, [`Pose`] (nalgebra 0.30 `Isometry3<f64>`), is used throughout;
+//! k's types stay in the `kchain` module.
+
+mod builtin;
+mod chain;
+mod description;
+mod error;
+mod load;
+mod math;
+mod model;
+mod urdf;
+
+pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
+pub use description::{DESCRIPTION_FORMAT, Gripper};
+pub use error::{IkFailure, KinematicsError};
+pub use math::*;
+pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};

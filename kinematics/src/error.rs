@@ -1,0 +1,93 @@
+//! Errors of the kinematics crate: loading a robot (bad files, unknown names,
+//! misuse of the model) and the typed reasons an IK solve gives up.
+//!
+//! Loading errors always name the file and the element at fault. An IK failure
+//! is an answer, not a bug: it says why no configuration was returned.
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+/// Something is wrong with a robot description, a URDF, or how the model is used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum KinematicsError {
+    /// No built-in robot has this name (and it is not a path to a file).
+    #[error(
+        "unknown robot '{name}': built-in robots are {known}; a user robot is a path to its description .yaml"
+    )]
+    UnknownRobot { name: String, known: String },
+    /// A file could not be read.
+    #[error("{}: cannot read: {source}", file.display())]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The URDF is not well-formed XML or does not follow the URDF schema.
+    #[error("{}: malformed URDF: {message}", file.display())]
+    UrdfSyntax { file: PathBuf, message: String },
+    /// One URDF element is inconsistent or unsupported.
+    #[error("{}: {element}: {problem}", file.display())]
+    UrdfElement {
+        file: PathBuf,
+        element: String,
+        problem: String,
+    },
+    /// The description YAML does not parse or does not follow the schema.
+    #[error("{}: malformed robot description: {message}", file.display())]
+    DescriptionSyntax { file: PathBuf, message: String },
+    /// One entry of the description YAML is inconsistent with the URDF.
+    #[error("{}: {element}: {problem}", file.display())]
+    DescriptionElement {
+        file: PathBuf,
+        element: String,
+        problem: String,
+    },
+    /// A link name that the robot does not have.
+    #[error("robot '{robot}' has no link '{link}'")]
+    UnknownLink { robot: String, link: String },
+    /// An arm name that the robot does not have.
+    #[error("robot '{robot}' has no arm '{arm}' (arms: {known})")]
+    UnknownArm {
+        robot: String,
+        arm: String,
+        known: String,
+    },
+    /// A joint vector of the wrong length.
+    #[error("{what} has {got} values, expected {expected}")]
+    ConfigSize {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+}
+
+/// Why an IK solve returned no configuration. Never a silently wrong answer.
+#[derive(Debug, Clone, PartialEq, Serialize, thiserror::Error)]
+#[non_exhaustive]
+pub enum IkFailure {
+    /// The target lies beyond what the arm can reach, whatever its joint limits.
+    #[error(
+        "target out of reach: even ignoring joint limits the tool stays {position_error:.4} m away"
+    )]
+    OutOfReach { position_error: f64 },
+    /// The target is reachable only with a joint beyond its limit.
+    #[error("target needs joint '{joint}' beyond its limit")]
+    JointLimit { joint: String },
+    /// The solver ended at a singular configuration short of the target.
+    #[error("solver stuck at a singular configuration (smallest singular value {sigma_min:.2e})")]
+    Singular { sigma_min: f64 },
+    /// The solver ran out of iterations/restarts without meeting the tolerance.
+    #[error(
+        "IK did not converge after {attempts} attempts (best: {position_error:.2e} m, {rotation_error:.2e} rad)"
+    )]
+    NotConverged {
+        attempts: usize,
+        position_error: f64,
+        rotation_error: f64,
+    },
+    /// The request itself is unusable (wrong seed length, non-finite target).
+    #[error("invalid IK request: {reason}")]
+    InvalidRequest { reason: &'static str },
+}

@@ -1,0 +1,344 @@
+//! Loading: a URDF and its description file become a [`RobotModel`]. Owns the
+//! checks that tie the two together (joint names, arm chains, postures) and
+//! the file-system side (built-in name, description path, or URDF path with a
+//! sibling `.yaml`).
+
+use std::path::{Path, PathBuf};
+
+use crate::builtin;
+use crate::chain::{Chain, ChainJoint, Motion};
+use crate::description::{self, Description};
+use crate::error::KinematicsError;
+use crate::math::{Pose, Real};
+use crate::model::{Arm, Joint, JointKind, Link, RobotModel};
+use crate::urdf::{self, Tree};
+
+impl RobotModel {
+    /// A robot built into the binary (`kuka_iiwa14`, `care_o_bot4`).
+    pub fn builtin(name: &str) -> Result<Self, KinematicsError> {
+        let b = builtin::find(name).ok_or_else(|| KinematicsError::UnknownRobot {
+            name: name.to_string(),
+            known: builtin::NAMES.join(", "),
+        })?;
+        let mut model = Self::from_texts(
+            b.description,
+            Path::new(b.description_file),
+            b.urdf,
+            Path::new(b.urdf_file),
+        )?;
+        model.source = "built-in".into();
+        Ok(model)
+    }
+
+    /// A built-in name, or a path to a description `.yaml` (or to a `.urdf`
+    /// with a `.yaml` of the same stem beside it). Relative paths are taken
+    /// relative to `base_dir` (the scenario's folder).
+    pub fn load(model: &str, base_dir: &Path) -> Result<Self, KinematicsError> {
+        if builtin::find(model).is_some() {
+            return Self::builtin(model);
+        }
+        let path = base_dir.join(model);
+        let is_file_like =
+            model.contains('/') || model.contains('\\') || path.extension().is_some();
+        if !is_file_like {
+            return Err(KinematicsError::UnknownRobot {
+                name: model.to_string(),
+                known: builtin::NAMES.join(", "),
+            });
+        }
+        Self::from_path(&path)
+    }
+
+    /// Loads a user robot from a description `.yaml`, or from a `.urdf` whose
+    /// description is the `.yaml` of the same stem in the same folder.
+    pub fn from_path(path: &Path) -> Result<Self, KinematicsError> {
+        let description_path = if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+        {
+            let yaml = path.with_extension("yaml");
+            if !yaml.exists() {
+                return Err(KinematicsError::Io {
+                    file: yaml,
+                    source: std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        format!(
+                            "a URDF needs its robot description beside it (for {})",
+                            path.display()
+                        ),
+                    ),
+                });
+            }
+            yaml
+        } else {
+            path.to_path_buf()
+        };
+        let read = |p: &Path| {
+            std::fs::read_to_string(p).map_err(|source| KinematicsError::Io {
+                file: p.to_path_buf(),
+                source,
+            })
+        };
+        let description_text = read(&description_path)?;
+        let description = description::parse(&description_text, &description_path)?;
+        let urdf_path = description_path
+            .parent()
+            .unwrap_or_else(|| Path::new("."))
+            .join(&description.urdf);
+        let urdf_text = read(&urdf_path)?;
+        let tree = urdf::parse(&urdf_text, &urdf_path)?;
+        let mut model = assemble(&tree, &description, &description_path)?;
+        model.source = description_path.display().to_string();
+        Ok(model)
+    }
+
+    /// Builds a model from description YAML and URDF text; the paths only name
+    /// the files in error messages.
+    pub fn from_texts(
+        description_yaml: &str,
+        description_file: &Path,
+        urdf_text: &str,
+        urdf_file: &Path,
+    ) -> Result<Self, KinematicsError> {
+        let description = description::parse(description_yaml, description_file)?;
+        let tree = urdf::parse(urdf_text, urdf_file)?;
+        let mut model = assemble(&tree, &description, description_file)?;
+        model.source = description_file.display().to_string();
+        Ok(model)
+    }
+}
+
+fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, KinematicsError> {
+    let err = |element: String, problem: String| KinematicsError::DescriptionElement {
+        file: PathBuf::from(file),
+        element,
+        problem,
+    };
+    // Movable joints in tree order form the configuration.
+    let mut joints = Vec::new();
+    let mut links = Vec::with_capacity(tree.links.len());
+    for tl in &tree.links {
+        let (origin, joint) = match &tl.joint {
+            None => (Pose::identity(), None),
+            Some(j) if j.kind == JointKind::Fixed => (j.origin, None),
+            Some(j) => {
+                let acceleration = match d.acceleration_limits.get(&j.name) {
+                    Some(&a) => a,
+                    None => j.acceleration,
+                };
+                if !(acceleration.is_finite() && acceleration > 0.0) {
+                    return Err(err(
+                        format!("acceleration_limits.{}", j.name),
+                        "missing or not positive: give a limit here or in the URDF <limit acceleration=..>".into(),
+                    ));
+                }
+                joints.push(Joint {
+                    name: j.name.clone(),
+                    kind: j.kind,
+                    lower: j.lower,
+                    upper: j.upper,
+                    velocity: j.velocity,
+                    acceleration,
+                    effort: j.effort,
+                });
+                (j.origin, Some((joints.len() - 1, j.axis, j.kind)))
+            }
+        };
+        links.push(Link {
+            name: tl.name.clone(),
+            parent: tl.parent,
+            colliders: tl.colliders.clone(),
+            origin,
+            joint,
+        });
+    }
+    let joint_index = |name: &str| joints.iter().position(|j| j.name == name);
+    for (section, map) in [
+        ("home", &d.home),
+        ("acceleration_limits", &d.acceleration_limits),
+    ] {
+        if let Some(name) = map.keys().find(|n| joint_index(n).is_none()) {
+            return Err(err(
+                format!("{section}.{name}"),
+                "is not a movable joint of the URDF".into(),
+            ));
+        }
+    }
+    let mut home = Vec::with_capacity(joints.len());
+    for j in &joints {
+        let v = d
+            .home
+            .get(&j.name)
+            .copied()
+            .unwrap_or_else(|| 0.0f64.clamp(j.lower, j.upper));
+        if !j.within(v, 1e-9) {
+            return Err(err(
+                format!("home.{}", j.name),
+                format!("{v} is outside the joint limits {} .. {}", j.lower, j.upper),
+            ));
+        }
+        home.push(v);
+    }
+    let link_index = |name: &str| links.iter().position(|l| l.name == name);
+    let mut arms = Vec::with_capacity(d.arms.len());
+    for (ai, ad) in d.arms.iter().enumerate() {
+        let at = |field: &str| format!("arms[{ai}].{field}");
+        let root = link_index(&ad.root)
+            .ok_or_else(|| err(at("root"), format!("link '{}' is not in the URDF", ad.root)))?;
+        let tool = link_index(&ad.tool)
+            .ok_or_else(|| err(at("tool"), format!("link '{}' is not in the URDF", ad.tool)))?;
+        // Path tool -> root.
+        let mut path = Vec::new();
+        let mut cur = tool;
+        while cur != root {
+            path.push(cur);
+            cur = links[cur].parent.ok_or_else(|| {
+                err(
+                    at("tool"),
+                    format!(
+                        "link '{}' does not hang below root link '{}'",
+                        ad.tool, ad.root
+                    ),
+                )
+            })?;
+        }
+        path.reverse();
+        // Root must be fixed to the robot base.
+        let mut base = Pose::identity();
+        let mut up = Some(root);
+        while let Some(i) = up {
+            if let Some((ci, _, _)) = links[i].joint {
+                return Err(err(
+                    at("root"),
+                    format!(
+                        "link '{}' moves with joint '{}'; start the arm lower or list that joint among its joints",
+                        ad.root, joints[ci].name
+                    ),
+                ));
+            }
+            base = links[i].origin * base;
+            up = links[i].parent;
+        }
+        let movable: Vec<usize> = path
+            .iter()
+            .filter_map(|&l| links[l].joint.map(|(ci, _, _)| ci))
+            .collect();
+        let listed: Vec<usize> = ad
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(k, n)| {
+                joint_index(n).ok_or_else(|| {
+                    err(
+                        format!("arms[{ai}].joints[{k}]"),
+                        format!("'{n}' is not a movable joint of the URDF"),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        if listed != movable {
+            let names: Vec<&str> = movable.iter().map(|&i| joints[i].name.as_str()).collect();
+            return Err(err(
+                at("joints"),
+                format!(
+                    "must list the movable joints from '{}' to '{}' in order: [{}]",
+                    ad.root,
+                    ad.tool,
+                    names.join(", ")
+                ),
+            ));
+        }
+        if listed.len() > crate::chain::MAX_DOF {
+            return Err(err(
+                at("joints"),
+                format!(
+                    "at most {} joints per arm are supported",
+                    crate::chain::MAX_DOF
+                ),
+            ));
+        }
+        // Fold fixed transforms into the next movable joint's origin.
+        let mut chain_joints = Vec::with_capacity(listed.len());
+        let mut pending = base;
+        for &l in &path {
+            let link = &links[l];
+            pending *= link.origin;
+            if let Some((_, axis, kind)) = link.joint {
+                chain_joints.push(ChainJoint {
+                    origin: pending,
+                    axis,
+                    motion: if kind == JointKind::Prismatic {
+                        Motion::Prismatic
+                    } else {
+                        Motion::Revolute
+                    },
+                });
+                pending = Pose::identity();
+            }
+        }
+        let chain = Chain {
+            joints: chain_joints,
+            tool: pending,
+        };
+        let lower: Vec<Real> = listed.iter().map(|&i| joints[i].lower).collect();
+        let upper: Vec<Real> = listed.iter().map(|&i| joints[i].upper).collect();
+        let mut park = Vec::with_capacity(ad.park.len());
+        for (name, &v) in &ad.park {
+            let i = joint_index(name).ok_or_else(|| {
+                err(
+                    format!("arms[{ai}].park.{name}"),
+                    "is not a movable joint of the URDF".into(),
+                )
+            })?;
+            if !joints[i].within(v, 1e-9) {
+                return Err(err(
+                    format!("arms[{ai}].park.{name}"),
+                    format!("{v} is outside the joint limits"),
+                ));
+            }
+            park.push((i, v));
+        }
+        let reach = chain.reach_bound(&upper, &lower);
+        arms.push(Arm {
+            name: ad.name.clone(),
+            root_link: ad.root.clone(),
+            tool_link: ad.tool.clone(),
+            joint_names: ad.joints.clone(),
+            home: listed.iter().map(|&i| home[i]).collect(),
+            joint_indices: listed,
+            lower,
+            upper,
+            park,
+            reach,
+            chain,
+        });
+    }
+    let mut skip = Vec::with_capacity(d.self_collision_skip.len());
+    for (k, [a, b]) in d.self_collision_skip.iter().enumerate() {
+        let ia = link_index(a).ok_or_else(|| {
+            err(
+                format!("self_collision_skip[{k}]"),
+                format!("link '{a}' is not in the URDF"),
+            )
+        })?;
+        let ib = link_index(b).ok_or_else(|| {
+            err(
+                format!("self_collision_skip[{k}]"),
+                format!("link '{b}' is not in the URDF"),
+            )
+        })?;
+        skip.push((ia.min(ib), ia.max(ib)));
+    }
+    skip.sort_unstable();
+    skip.dedup();
+    Ok(RobotModel {
+        name: d.name.clone(),
+        source: String::new(),
+        links,
+        joints,
+        arms,
+        home,
+        gripper: d.gripper,
+        self_collision_skip: skip,
+    })
+}

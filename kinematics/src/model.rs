@@ -1,0 +1,316 @@
+//! The robot model: links, movable joints, arms, home and park postures, and
+//! forward kinematics of any link. A robot configuration is one `Vec<f64>`
+//! over all movable joints in [`RobotModel::joints`] order; an arm reads and
+//! writes its own slice of it through [`Arm::joint_indices`].
+
+use nalgebra::{Translation3, UnitQuaternion};
+use serde::Serialize;
+
+use crate::chain::Chain;
+use crate::description::Gripper;
+use crate::error::KinematicsError;
+use crate::math::{Pose, Real, Vec3};
+
+/// How a joint moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointKind {
+    Fixed,
+    Revolute,
+    Continuous,
+    Prismatic,
+}
+
+/// A movable joint with its limits (rad, rad/s, rad/s^2; m for prismatic).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Joint {
+    pub name: String,
+    pub kind: JointKind,
+    pub lower: Real,
+    pub upper: Real,
+    pub velocity: Real,
+    pub acceleration: Real,
+    pub effort: Real,
+}
+
+impl Joint {
+    /// Middle of the position range.
+    pub fn mid(&self) -> Real {
+        0.5 * (self.lower + self.upper)
+    }
+
+    /// True when `q` lies inside the limits (tolerance `eps`).
+    pub fn within(&self, q: Real, eps: Real) -> bool {
+        q >= self.lower - eps && q <= self.upper + eps
+    }
+}
+
+/// A collision primitive in its link's frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    /// Box centred at the origin.
+    Box {
+        half_extents: Vec3,
+    },
+    /// Cylinder along the local z axis, centred at the origin.
+    Cylinder {
+        radius: Real,
+        half_length: Real,
+    },
+    /// Capsule: the segment z in [-half_length, half_length] swept by `radius`.
+    Capsule {
+        radius: Real,
+        half_length: Real,
+    },
+    Sphere {
+        radius: Real,
+    },
+}
+
+/// A collision shape placed in its link frame (`pose_link_shape`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Collider {
+    pub origin: Pose,
+    pub shape: Shape,
+}
+
+/// A link: its name, its parent link and its collision shapes.
+#[derive(Debug, Clone)]
+pub struct Link {
+    pub name: String,
+    /// Index of the parent link in [`RobotModel::links`] (parents come first).
+    pub parent: Option<usize>,
+    pub colliders: Vec<Collider>,
+    /// Pose of the joint frame above this link in the parent link frame.
+    pub(crate) origin: Pose,
+    /// Movable joint above this link: index into the configuration, unit axis.
+    pub(crate) joint: Option<(usize, Vec3, JointKind)>,
+}
+
+/// One serial arm of a robot: root link to tool (grasp point) link.
+#[derive(Debug, Clone)]
+pub struct Arm {
+    pub name: String,
+    pub root_link: String,
+    pub tool_link: String,
+    /// Joint names, base to tool.
+    pub joint_names: Vec<String>,
+    /// Index of each arm joint in the robot configuration.
+    pub joint_indices: Vec<usize>,
+    /// Per-arm joint limits (copied from the model).
+    pub lower: Vec<Real>,
+    pub upper: Vec<Real>,
+    /// Comfortable posture of this arm's joints (from the model's home).
+    pub home: Vec<Real>,
+    /// Robot joints this arm sets while it waits: (configuration index, value).
+    pub park: Vec<(usize, Real)>,
+    /// Upper bound on the distance from the first joint origin to the tool (m).
+    pub reach: Real,
+    pub(crate) chain: Chain,
+}
+
+impl Arm {
+    /// Degrees of freedom.
+    pub fn dof(&self) -> usize {
+        self.joint_indices.len()
+    }
+
+    /// Tool pose in the robot base frame for this arm's joint values.
+    pub fn fk(&self, q_arm: &[Real]) -> Pose {
+        self.chain.fk(q_arm)
+    }
+
+    /// Origin of the first joint in the base frame (centre of the reach bound).
+    pub fn reach_centre(&self) -> Vec3 {
+        self.chain.first_joint_origin()
+    }
+
+    /// This arm's values out of a robot configuration.
+    pub fn extract(&self, q_robot: &[Real]) -> Vec<Real> {
+        self.joint_indices.iter().map(|&i| q_robot[i]).collect()
+    }
+
+    /// Writes this arm's values into a robot configuration.
+    pub fn insert(&self, q_robot: &mut [Real], q_arm: &[Real]) {
+        for (&i, &v) in self.joint_indices.iter().zip(q_arm) {
+            q_robot[i] = v;
+        }
+    }
+
+    /// True when every value is inside its limit (tolerance `eps`).
+    pub fn within_limits(&self, q_arm: &[Real], eps: Real) -> bool {
+        q_arm.len() == self.dof()
+            && q_arm
+                .iter()
+                .zip(self.lower.iter().zip(&self.upper))
+                .all(|(&q, (&lo, &hi))| q >= lo - eps && q <= hi + eps)
+    }
+
+    /// Middle of each joint range.
+    pub fn mid_range(&self) -> Vec<Real> {
+        self.lower
+            .iter()
+            .zip(&self.upper)
+            .map(|(l, u)| 0.5 * (l + u))
+            .collect()
+    }
+}
+
+/// A loaded robot: kinematic tree, joints, arms and planning data.
+#[derive(Debug, Clone)]
+pub struct RobotModel {
+    pub(crate) name: String,
+    pub(crate) source: String,
+    pub(crate) links: Vec<Link>,
+    pub(crate) joints: Vec<Joint>,
+    pub(crate) arms: Vec<Arm>,
+    pub(crate) home: Vec<Real>,
+    pub(crate) gripper: Gripper,
+    pub(crate) self_collision_skip: Vec<(usize, usize)>,
+}
+
+impl RobotModel {
+    /// Robot name (the description's `name`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Where the model came from: `built-in` or the description path.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// All links, parents before children; index 0 is the base frame.
+    pub fn links(&self) -> &[Link] {
+        &self.links
+    }
+
+    /// Movable joints, in configuration order.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// Degrees of freedom of the whole robot.
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+
+    pub fn arms(&self) -> &[Arm] {
+        &self.arms
+    }
+
+    /// Arm by name.
+    pub fn arm(&self, name: &str) -> Result<&Arm, KinematicsError> {
+        self.arms
+            .iter()
+            .find(|a| a.name == name)
+            .ok_or_else(|| KinematicsError::UnknownArm {
+                robot: self.name.clone(),
+                arm: name.to_string(),
+                known: self
+                    .arms
+                    .iter()
+                    .map(|a| a.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// The comfortable robot configuration.
+    pub fn home(&self) -> &[Real] {
+        &self.home
+    }
+
+    pub fn gripper(&self) -> Gripper {
+        self.gripper
+    }
+
+    /// Link index pairs never checked for self-collision (smaller index first).
+    pub fn self_collision_skip(&self) -> &[(usize, usize)] {
+        &self.self_collision_skip
+    }
+
+    /// True when the pair of links needs no self-collision check.
+    pub fn skips_self_collision(&self, a: usize, b: usize) -> bool {
+        let key = (a.min(b), a.max(b));
+        a == b || self.self_collision_skip.binary_search(&key).is_ok()
+    }
+
+    /// Index of a link by name.
+    pub fn link_index(&self, name: &str) -> Result<usize, KinematicsError> {
+        self.links
+            .iter()
+            .position(|l| l.name == name)
+            .ok_or_else(|| KinematicsError::UnknownLink {
+                robot: self.name.clone(),
+                link: name.to_string(),
+            })
+    }
+
+    /// Index of a movable joint by name.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    fn check_config(&self, q: &[Real]) -> Result<(), KinematicsError> {
+        if q.len() != self.joints.len() {
+            return Err(KinematicsError::ConfigSize {
+                what: "robot configuration",
+                expected: self.joints.len(),
+                got: q.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Pose of every link in the base frame (`pose_base_link`), in [`Self::links`] order.
+    pub fn link_poses(&self, q: &[Real]) -> Result<Vec<Pose>, KinematicsError> {
+        self.check_config(q)?;
+        let mut poses: Vec<Pose> = Vec::with_capacity(self.links.len());
+        for link in &self.links {
+            let parent = link.parent.map_or_else(Pose::identity, |p| poses[p]);
+            poses.push(parent * link.origin * motion(link.joint, q));
+        }
+        Ok(poses)
+    }
+
+    /// Pose of one link in the base frame.
+    pub fn link_pose(&self, q: &[Real], link: &str) -> Result<Pose, KinematicsError> {
+        self.check_config(q)?;
+        let mut index = Some(self.link_index(link)?);
+        let mut pose = Pose::identity();
+        while let Some(i) = index {
+            let l = &self.links[i];
+            pose = l.origin * motion(l.joint, q) * pose;
+            index = l.parent;
+        }
+        Ok(pose)
+    }
+
+    /// A robot configuration with every arm except `active` at its park posture
+    /// (arms without a park posture stay where `q` has them).
+    pub fn parked_except(&self, q: &[Real], active: &str) -> Vec<Real> {
+        let mut out = q.to_vec();
+        for arm in self.arms.iter().filter(|a| a.name != active) {
+            for &(i, v) in &arm.park {
+                out[i] = v;
+            }
+        }
+        out
+    }
+}
+
+#[inline]
+fn motion(joint: Option<(usize, Vec3, JointKind)>, q: &[Real]) -> Pose {
+    match joint {
+        None => Pose::identity(),
+        Some((i, axis, JointKind::Prismatic)) => {
+            Pose::from_parts(Translation3::from(axis * q[i]), UnitQuaternion::identity())
+        }
+        Some((_, _, JointKind::Fixed)) => Pose::identity(),
+        Some((i, axis, _)) => Pose::from_parts(
+            Translation3::identity(),
+            UnitQuaternion::from_scaled_axis(axis * q[i]),
+        ),
+    }
+}

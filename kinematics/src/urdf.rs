@@ -1,0 +1,353 @@
+//! URDF at the edge: the only module that touches urdf-rs. Parses a URDF
+//! string into a validated kinematic tree (links in parent-before-child order,
+//! movable joints, collision primitives) and names the element at fault when
+//! something is wrong.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::error::KinematicsError;
+use crate::math::{Pose, Real, Vec3, pose_from_xyz_rpy};
+use crate::model::{Collider, JointKind, Shape};
+
+/// One link of the parsed tree.
+#[derive(Debug, Clone)]
+pub(crate) struct TreeLink {
+    pub name: String,
+    /// Index (in tree order) of the parent link; `None` for the root.
+    pub parent: Option<usize>,
+    /// The joint connecting this link to its parent.
+    pub joint: Option<TreeJoint>,
+    pub colliders: Vec<Collider>,
+}
+
+/// The joint above a link.
+#[derive(Debug, Clone)]
+pub(crate) struct TreeJoint {
+    pub name: String,
+    /// Pose of the joint frame in the parent link frame.
+    pub origin: Pose,
+    pub kind: JointKind,
+    /// Unit axis in the joint frame (unused for fixed joints).
+    pub axis: Vec3,
+    pub lower: Real,
+    pub upper: Real,
+    pub velocity: Real,
+    pub effort: Real,
+    /// URDF 1.2 acceleration limit (infinite when absent).
+    pub acceleration: Real,
+}
+
+/// A parsed URDF: the robot's name and its links root first.
+#[derive(Debug, Clone)]
+pub(crate) struct Tree {
+    pub name: String,
+    pub links: Vec<TreeLink>,
+}
+
+fn element_error(file: &Path, element: String, problem: impl Into<String>) -> KinematicsError {
+    KinematicsError::UrdfElement {
+        file: file.to_path_buf(),
+        element,
+        problem: problem.into(),
+    }
+}
+
+fn finite3(v: &[Real; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+/// Parses and validates URDF text; `file` is only used in error messages.
+pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
+    let robot = urdf_rs::read_from_string(text).map_err(|e| KinematicsError::UrdfSyntax {
+        file: file.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    if robot.links.is_empty() {
+        return Err(element_error(file, "<robot>".into(), "has no <link>"));
+    }
+    let mut link_index: HashMap<&str, usize> = HashMap::new();
+    for (i, link) in robot.links.iter().enumerate() {
+        if link.name.is_empty() {
+            return Err(element_error(
+                file,
+                format!("link #{}", i + 1),
+                "has no name",
+            ));
+        }
+        if link_index.insert(link.name.as_str(), i).is_some() {
+            return Err(element_error(
+                file,
+                format!("link '{}'", link.name),
+                "is defined twice",
+            ));
+        }
+    }
+    // Parent joint of each link (by URDF index).
+    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+    let mut joint_names: HashMap<&str, ()> = HashMap::new();
+    for (ji, joint) in robot.joints.iter().enumerate() {
+        let el = format!("joint '{}'", joint.name);
+        if joint_names.insert(joint.name.as_str(), ()).is_some() {
+            return Err(element_error(file, el, "is defined twice"));
+        }
+        if !link_index.contains_key(joint.parent.link.as_str()) {
+            return Err(element_error(
+                file,
+                el,
+                format!("parent link '{}' is not defined", joint.parent.link),
+            ));
+        }
+        let Some(&child) = link_index.get(joint.child.link.as_str()) else {
+            return Err(element_error(
+                file,
+                el,
+                format!("child link '{}' is not defined", joint.child.link),
+            ));
+        };
+        if let Some(other) = parent_joint[child] {
+            return Err(element_error(
+                file,
+                el,
+                format!(
+                    "link '{}' already has parent joint '{}'",
+                    joint.child.link, robot.joints[other].name
+                ),
+            ));
+        }
+        parent_joint[child] = Some(ji);
+    }
+    let roots: Vec<usize> = (0..robot.links.len())
+        .filter(|&i| parent_joint[i].is_none())
+        .collect();
+    if roots.len() != 1 {
+        let names: Vec<&str> = roots
+            .iter()
+            .map(|&i| robot.links[i].name.as_str())
+            .collect();
+        return Err(element_error(
+            file,
+            "<robot>".into(),
+            format!(
+                "needs exactly one root link, found {}: {}",
+                names.len(),
+                names.join(", ")
+            ),
+        ));
+    }
+    // Breadth-first order from the root; links never reached sit in a cycle.
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+    for (ji, joint) in robot.joints.iter().enumerate() {
+        children[link_index[joint.parent.link.as_str()]].push(ji);
+    }
+    let mut order = vec![roots[0]];
+    let mut tree_index = vec![usize::MAX; robot.links.len()];
+    tree_index[roots[0]] = 0;
+    let mut cursor = 0;
+    while cursor < order.len() {
+        let li = order[cursor];
+        cursor += 1;
+        for &ji in &children[li] {
+            let child = link_index[robot.joints[ji].child.link.as_str()];
+            tree_index[child] = order.len();
+            order.push(child);
+        }
+    }
+    if order.len() != robot.links.len() {
+        let stray = (0..robot.links.len())
+            .find(|&i| tree_index[i] == usize::MAX)
+            .unwrap_or(0);
+        return Err(element_error(
+            file,
+            format!("link '{}'", robot.links[stray].name),
+            "is part of a joint cycle (not connected to the root)",
+        ));
+    }
+    let mut links = Vec::with_capacity(order.len());
+    for &li in &order {
+        let link = &robot.links[li];
+        let colliders = link
+            .collision
+            .iter()
+            .enumerate()
+            .map(|(ci, c)| collider(c, file, &link.name, ci))
+            .collect::<Result<Vec<_>, _>>()?;
+        let (parent, joint) = match parent_joint[li] {
+            None => (None, None),
+            Some(ji) => {
+                let j = &robot.joints[ji];
+                let parent = tree_index[link_index[j.parent.link.as_str()]];
+                (Some(parent), Some(tree_joint(j, file)?))
+            }
+        };
+        links.push(TreeLink {
+            name: link.name.clone(),
+            parent,
+            joint,
+            colliders,
+        });
+    }
+    Ok(Tree {
+        name: robot.name,
+        links,
+    })
+}
+
+fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsError> {
+    let el = || format!("joint '{}'", j.name);
+    if j.name.is_empty() {
+        return Err(element_error(
+            file,
+            format!("joint to link '{}'", j.child.link),
+            "has no name",
+        ));
+    }
+    let (xyz, rpy) = (j.origin.xyz.0, j.origin.rpy.0);
+    if !finite3(&xyz) || !finite3(&rpy) {
+        return Err(element_error(
+            file,
+            el(),
+            "<origin> holds a non-finite number",
+        ));
+    }
+    let kind = match j.joint_type {
+        urdf_rs::JointType::Fixed => JointKind::Fixed,
+        urdf_rs::JointType::Revolute => JointKind::Revolute,
+        urdf_rs::JointType::Continuous => JointKind::Continuous,
+        urdf_rs::JointType::Prismatic => JointKind::Prismatic,
+        ref other => {
+            return Err(element_error(
+                file,
+                el(),
+                format!(
+                    "type {other:?} is not supported (use fixed, revolute, continuous or prismatic)"
+                ),
+            ));
+        }
+    };
+    let axis_raw = Vec3::from(j.axis.xyz.0);
+    let axis = if kind == JointKind::Fixed {
+        Vec3::z()
+    } else {
+        let n = axis_raw.norm();
+        if !n.is_finite() || n < 1e-9 {
+            return Err(element_error(
+                file,
+                el(),
+                "<axis xyz> must be a non-zero, finite vector",
+            ));
+        }
+        axis_raw / n
+    };
+    let lim = &j.limit;
+    let (lower, upper) = match kind {
+        JointKind::Fixed => (0.0, 0.0),
+        JointKind::Continuous => (-std::f64::consts::PI * 2.0, std::f64::consts::PI * 2.0),
+        _ => {
+            if !(lim.lower.is_finite() && lim.upper.is_finite() && lim.lower < lim.upper) {
+                return Err(element_error(
+                    file,
+                    el(),
+                    format!(
+                        "a {} joint needs <limit lower=.. upper=..> with finite lower < upper (got {} .. {})",
+                        if kind == JointKind::Revolute {
+                            "revolute"
+                        } else {
+                            "prismatic"
+                        },
+                        lim.lower,
+                        lim.upper
+                    ),
+                ));
+            }
+            (lim.lower, lim.upper)
+        }
+    };
+    if kind != JointKind::Fixed && !(lim.velocity.is_finite() && lim.velocity > 0.0) {
+        return Err(element_error(
+            file,
+            el(),
+            format!("<limit velocity> must be positive, got {}", lim.velocity),
+        ));
+    }
+    if j.mimic.is_some() {
+        return Err(element_error(
+            file,
+            el(),
+            "<mimic> joints are not supported",
+        ));
+    }
+    Ok(TreeJoint {
+        name: j.name.clone(),
+        origin: pose_from_xyz_rpy(xyz, rpy),
+        kind,
+        axis,
+        lower,
+        upper,
+        velocity: lim.velocity,
+        effort: lim.effort,
+        acceleration: lim.acceleration,
+    })
+}
+
+fn collider(
+    c: &urdf_rs::Collision,
+    file: &Path,
+    link: &str,
+    index: usize,
+) -> Result<Collider, KinematicsError> {
+    let el = || format!("link '{link}' <collision> #{}", index + 1);
+    let (xyz, rpy) = (c.origin.xyz.0, c.origin.rpy.0);
+    if !finite3(&xyz) || !finite3(&rpy) {
+        return Err(element_error(
+            file,
+            el(),
+            "<origin> holds a non-finite number",
+        ));
+    }
+    let positive = |v: Real| v.is_finite() && v > 0.0;
+    let shape = match &c.geometry {
+        urdf_rs::Geometry::Box { size } if size.0.iter().all(|&s| positive(s)) => Shape::Box {
+            half_extents: Vec3::from(size.0) / 2.0,
+        },
+        urdf_rs::Geometry::Cylinder { radius, length }
+            if positive(*radius) && positive(*length) =>
+        {
+            Shape::Cylinder {
+                radius: *radius,
+                half_length: length / 2.0,
+            }
+        }
+        urdf_rs::Geometry::Capsule { radius, length }
+            if positive(*radius) && length.is_finite() && *length >= 0.0 =>
+        {
+            Shape::Capsule {
+                radius: *radius,
+                half_length: length / 2.0,
+            }
+        }
+        urdf_rs::Geometry::Sphere { radius } if positive(*radius) => {
+            Shape::Sphere { radius: *radius }
+        }
+        urdf_rs::Geometry::Mesh { filename, .. } => {
+            return Err(element_error(
+                file,
+                el(),
+                format!(
+                    "<mesh filename=\"{filename}\"> is not supported for collision; use box, cylinder, sphere or capsule"
+                ),
+            ));
+        }
+        _ => {
+            return Err(element_error(
+                file,
+                el(),
+                "geometry sizes must be positive and finite",
+            ));
+        }
+    };
+    Ok(Collider {
+        origin: pose_from_xyz_rpy(xyz, rpy),
+        shape,
+    })
+}
