@@ -61,11 +61,21 @@ pub struct SubTargetDistances {
 impl SubTargetDistances {
     pub fn of(task: &GridTask) -> Self {
         let grid = &task.grid;
-        let to_target = (0..grid.len()).map(|i| manhattan(grid.cell(i), grid.target)).collect();
-        let goal_cells: Vec<_> =
-            (0..grid.len()).filter(|&i| grid.codes()[i] == CellCode::Goal).map(|i| grid.cell(i)).collect();
+        let to_target = (0..grid.len())
+            .map(|i| manhattan(grid.cell(i), grid.target))
+            .collect();
+        let goal_cells: Vec<_> = (0..grid.len())
+            .filter(|&i| grid.codes()[i] == CellCode::Goal)
+            .map(|i| grid.cell(i))
+            .collect();
         let to_goal = (0..grid.len())
-            .map(|i| goal_cells.iter().map(|&g| manhattan(grid.cell(i), g)).min().unwrap_or(0))
+            .map(|i| {
+                goal_cells
+                    .iter()
+                    .map(|&g| manhattan(grid.cell(i), g))
+                    .min()
+                    .unwrap_or(0)
+            })
             .collect();
         Self { to_target, to_goal }
     }
@@ -73,7 +83,11 @@ impl SubTargetDistances {
     /// Distance from `s`'s cell to its current sub-target.
     pub fn of_state(&self, task: &GridTask, s: AgentState) -> u32 {
         let i = task.grid.index(s.cell);
-        if s.holding { self.to_goal[i] } else { self.to_target[i] }
+        if s.holding {
+            self.to_goal[i]
+        } else {
+            self.to_target[i]
+        }
     }
 }
 
@@ -84,7 +98,12 @@ fn manhattan(a: (usize, usize), b: (usize, usize)) -> u32 {
 /// Equation (9): the contextual initial Q-table, row-major `[state][action]`.
 /// `affordance_value` is ζ's value for an afforded action (1 in the paper),
 /// `distance_bias` is ξ (0.1).
-pub fn contextual_q_table(task: &GridTask, zeta: &Affordances, affordance_value: f64, distance_bias: f64) -> Vec<f64> {
+pub fn contextual_q_table(
+    task: &GridTask,
+    zeta: &Affordances,
+    affordance_value: f64,
+    distance_bias: f64,
+) -> Vec<f64> {
     let distances = SubTargetDistances::of(task);
     let mut q = vec![0.0; task.state_count() * Action::COUNT];
     for i in 0..task.state_count() {
@@ -92,7 +111,11 @@ pub fn contextual_q_table(task: &GridTask, zeta: &Affordances, affordance_value:
         let here = distances.of_state(task, s);
         for a in Action::ALL.into_iter().filter(|&a| zeta.allows(i, a)) {
             let xi = match task.step(s, a) {
-                Outcome::Moved(next) if a.delta().is_some() && distances.of_state(task, next) < here => distance_bias,
+                Outcome::Moved(next)
+                    if a.delta().is_some() && distances.of_state(task, next) < here =>
+                {
+                    distance_bias
+                }
                 _ => 0.0,
             };
             q[i * Action::COUNT + a.index()] = affordance_value + xi;

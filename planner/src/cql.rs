@@ -13,9 +13,17 @@
 //!   the end of an episode propagates back to the start in one sweep instead
 //!   of one step per episode. The authors' scheme without it fails on long
 //!   tasks (see `docs/decisions.md`); set `replay: false` for the literal one.
-//! - Training stops when the greedy rollout completes the task and has stayed
-//!   the same for `convergence_window` consecutive checks, or when the step
-//!   budget runs out.
+//! - Schedule: until some episode first reaches the goal the agent acts
+//!   greedily on its values and the episode never restarts (`optimistic_search`).
+//!   Values it has tried decay below the untried contextual values, so the
+//!   greedy agent always heads for the nearest untried promising action: a
+//!   real-time search (LRTA*-like) that reaches any reachable goal. After
+//!   that, ε-exploration refines the plan and episodes restart from the start
+//!   every `episode_steps`. The authors restart every 150 steps from the
+//!   first step, which starves long detours (see `docs/decisions.md`).
+//! - Training stops when the greedy rollout (checked after every episode)
+//!   completes the task and has stayed the same for `convergence_window`
+//!   consecutive checks, or when the step budget runs out.
 //!
 //! Plain Q-learning (the paper's QL baseline) starts from a zero table, sees
 //! no affordance mask and explores uniformly; an action the scene does not
@@ -34,11 +42,14 @@ use crate::task::{Action, AgentState, GridTask, Outcome};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LearnerSettings {
-    /// α, the learning rate. The paper prints "γ = 0.05" (names swapped).
+    /// α, the learning rate. Default 1: the grid task is deterministic, so
+    /// the full step is the exact backup. The authors use 0.05 (the paper
+    /// prints it as "γ = 0.05": the names are swapped).
     pub learning_rate: f64,
     /// γ, the discount. The paper prints "α = 0.99" (names swapped).
     pub discount: f64,
-    /// ε: probability of an exploratory (Q-proportional) action.
+    /// ε: probability of an exploratory (Q-proportional) action once the
+    /// goal has been reached (see `optimistic_search`).
     pub epsilon: f64,
     /// ζ's value for an afforded action in the initial table (eq. 9).
     pub affordance_value: f64,
@@ -62,6 +73,11 @@ pub struct LearnerSettings {
     pub episode_steps: usize,
     /// Replay each episode in reverse after it ends.
     pub replay: bool,
+    /// Until an episode first reaches the goal, act greedily on the
+    /// (optimistic) values and never restart: a real-time search in the
+    /// manner of LRTA*, which cannot fail to reach a reachable goal. ε-
+    /// exploration and episode restarts start after that.
+    pub optimistic_search: bool,
     /// Consecutive identical successful greedy rollouts that count as converged.
     pub convergence_window: usize,
 }
@@ -71,7 +87,7 @@ impl Default for LearnerSettings {
         Self {
             learning_rate: 1.0,
             discount: 0.99,
-            epsilon: 0.1,
+            epsilon: 0.3,
             affordance_value: 1.0,
             distance_bias: 0.1,
             reward_move: 0.0,
@@ -82,7 +98,8 @@ impl Default for LearnerSettings {
             max_steps: 100_000,
             episode_steps: 0,
             replay: true,
-            convergence_window: 5,
+            optimistic_search: true,
+            convergence_window: 100,
         }
     }
 }
@@ -97,6 +114,7 @@ impl LearnerSettings {
             max_steps: 10_000,
             episode_steps: 150,
             replay: false,
+            optimistic_search: false,
             ..Self::default()
         }
     }
@@ -104,10 +122,17 @@ impl LearnerSettings {
     /// Problems with the settings, field names relative to the struct.
     pub fn validate(&self) -> Vec<FieldIssue> {
         let mut issues = Vec::new();
-        let unit = [("learning_rate", self.learning_rate), ("discount", self.discount), ("epsilon", self.epsilon)];
+        let unit = [
+            ("learning_rate", self.learning_rate),
+            ("discount", self.discount),
+            ("epsilon", self.epsilon),
+        ];
         for (name, v) in unit {
             if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
-                issues.push(FieldIssue::new(name, format!("must be between 0 and 1, got {v}")));
+                issues.push(FieldIssue::new(
+                    name,
+                    format!("must be between 0 and 1, got {v}"),
+                ));
             }
         }
         if self.learning_rate == 0.0 {
@@ -124,7 +149,10 @@ impl LearnerSettings {
         ];
         for (name, v) in finite {
             if !v.is_finite() {
-                issues.push(FieldIssue::new(name, format!("must be a finite number, got {v}")));
+                issues.push(FieldIssue::new(
+                    name,
+                    format!("must be a finite number, got {v}"),
+                ));
             }
         }
         if self.max_steps == 0 {
@@ -203,6 +231,8 @@ struct Training<'a> {
     q: Vec<f64>,
     rng: ChaCha8Rng,
     episode: Vec<(usize, Action, f64, Option<usize>)>,
+    /// Some episode has reached the terminal DROP.
+    reached_goal: bool,
 }
 
 const ALL_ACTIONS: u8 = (1 << Action::COUNT) - 1;
@@ -211,12 +241,24 @@ impl<'a> Training<'a> {
     fn new(task: &'a GridTask, settings: &'a LearnerSettings, variant: Variant, seed: u64) -> Self {
         let zeta = Affordances::of(task);
         let q = match variant {
-            Variant::Contextual => {
-                contextual_q_table(task, &zeta, settings.affordance_value, settings.distance_bias)
-            }
+            Variant::Contextual => contextual_q_table(
+                task,
+                &zeta,
+                settings.affordance_value,
+                settings.distance_bias,
+            ),
             Variant::Plain => vec![0.0; task.state_count() * Action::COUNT],
         };
-        Self { task, settings, variant, zeta, q, rng: ChaCha8Rng::seed_from_u64(seed), episode: Vec::new() }
+        Self {
+            task,
+            settings,
+            variant,
+            zeta,
+            q,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            episode: Vec::new(),
+            reached_goal: false,
+        }
     }
 
     fn run(mut self) -> LearnedPlan {
@@ -227,7 +269,12 @@ impl<'a> Training<'a> {
         let (mut steps, mut stable, mut converged) = (0, 0, false);
         let mut previous: Option<Vec<Action>> = None;
         while steps < self.settings.max_steps && !converged {
-            steps += self.run_episode(episode_steps.min(self.settings.max_steps - steps));
+            let limit = if self.searching() {
+                self.settings.max_steps
+            } else {
+                episode_steps
+            };
+            steps += self.run_episode(limit.min(self.settings.max_steps - steps));
             if self.settings.replay {
                 self.replay();
             }
@@ -240,7 +287,11 @@ impl<'a> Training<'a> {
             converged = stable >= self.settings.convergence_window;
             previous = rollout.solved.then_some(rollout.actions);
         }
-        LearnedPlan { training_steps: steps, converged, ..self.greedy_rollout() }
+        LearnedPlan {
+            training_steps: steps,
+            converged,
+            ..self.greedy_rollout()
+        }
     }
 
     /// One episode from the start; returns the steps taken.
@@ -256,7 +307,10 @@ impl<'a> Training<'a> {
             self.episode.push((i, a, r, next_index));
             match next {
                 Some(n) => s = n,
-                None => return t + 1,
+                None => {
+                    self.reached_goal = true;
+                    return t + 1;
+                }
             }
         }
         limit
@@ -299,6 +353,12 @@ impl<'a> Training<'a> {
         self.episode = episode;
     }
 
+    /// In the search phase: optimistic search is on and no episode has
+    /// reached the goal yet.
+    fn searching(&self) -> bool {
+        self.settings.optimistic_search && !self.reached_goal
+    }
+
     /// Actions the learner may choose in state `i`.
     fn choices(&self, i: usize) -> u8 {
         match self.variant {
@@ -315,7 +375,13 @@ impl<'a> Training<'a> {
         Action::ALL
             .into_iter()
             .filter(|a| mask & (1 << a.index()) != 0)
-            .fold((None, f64::NEG_INFINITY), |(ba, bv), a| if row[a.index()] > bv { (Some(a), row[a.index()]) } else { (ba, bv) })
+            .fold((None, f64::NEG_INFINITY), |(ba, bv), a| {
+                if row[a.index()] > bv {
+                    (Some(a), row[a.index()])
+                } else {
+                    (ba, bv)
+                }
+            })
     }
 
     /// ε-greedy choice: exploration samples afforded actions in proportion to
@@ -323,18 +389,32 @@ impl<'a> Training<'a> {
     /// masked argmax with random tie-breaking.
     fn select(&mut self, i: usize) -> Action {
         let mask = self.choices(i);
-        let row: [f64; Action::COUNT] = self.q[i * Action::COUNT..(i + 1) * Action::COUNT].try_into().unwrap_or([0.0; 7]);
-        let allowed = Action::ALL.into_iter().filter(|a| mask & (1 << a.index()) != 0);
-        let explore = self.rng.random::<f64>() < self.settings.epsilon;
+        let row: [f64; Action::COUNT] = self.q[i * Action::COUNT..(i + 1) * Action::COUNT]
+            .try_into()
+            .unwrap_or([0.0; 7]);
+        let allowed = Action::ALL
+            .into_iter()
+            .filter(|a| mask & (1 << a.index()) != 0);
+        let explore = !self.searching() && self.rng.random::<f64>() < self.settings.epsilon;
         let weights: Vec<(Action, f64)> = if explore {
-            let min = allowed.clone().map(|a| row[a.index()]).fold(f64::INFINITY, f64::min).min(0.0);
+            let min = allowed
+                .clone()
+                .map(|a| row[a.index()])
+                .fold(f64::INFINITY, f64::min)
+                .min(0.0);
             match self.variant {
                 Variant::Contextual => allowed.map(|a| (a, row[a.index()] - min + 1e-9)).collect(),
                 Variant::Plain => allowed.map(|a| (a, 1.0)).collect(),
             }
         } else {
-            let max = allowed.clone().map(|a| row[a.index()]).fold(f64::NEG_INFINITY, f64::max);
-            allowed.filter(|a| row[a.index()] >= max).map(|a| (a, 1.0)).collect()
+            let max = allowed
+                .clone()
+                .map(|a| row[a.index()])
+                .fold(f64::NEG_INFINITY, f64::max);
+            allowed
+                .filter(|a| row[a.index()] >= max)
+                .map(|a| (a, 1.0))
+                .collect()
         };
         self.sample(&weights)
     }

@@ -14,7 +14,10 @@ pub struct FieldIssue {
 
 impl FieldIssue {
     pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
-        Self { field: field.into(), message: message.into() }
+        Self {
+            field: field.into(),
+            message: message.into(),
+        }
     }
 }
 
@@ -37,9 +40,17 @@ pub enum ScenarioError {
     #[error("{file}: unknown scenario format: the file name must end in .yaml, .yml or .json")]
     Extension { file: String },
     #[error("{file}{}: {issue}", location(*line, *column))]
-    Parse { file: String, issue: FieldIssue, line: Option<u64>, column: Option<u64> },
+    Parse {
+        file: String,
+        issue: FieldIssue,
+        line: Option<u64>,
+        column: Option<u64>,
+    },
     #[error("{file}: invalid scenario:{}", issues.iter().map(|i| format!("\n  - {i}")).collect::<String>())]
-    Invalid { file: String, issues: Vec<FieldIssue> },
+    Invalid {
+        file: String,
+        issues: Vec<FieldIssue>,
+    },
 }
 
 fn location(line: Option<u64>, column: Option<u64>) -> String {
@@ -60,7 +71,9 @@ pub struct InstructionError {
 
 impl InstructionError {
     pub fn new(reason: impl Into<String>) -> Self {
-        Self { reason: reason.into() }
+        Self {
+            reason: reason.into(),
+        }
     }
 }
 

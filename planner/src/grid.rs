@@ -87,7 +87,11 @@ impl StateGrid {
         let cell_size = [target_box.w, target_box.l];
         let image = [scenario.camera.width as f64, scenario.camera.height as f64];
         let origin = [0, 1].map(|k| aligned_origin(target_box_start(&target_box, k), cell_size[k]));
-        let count = |k: usize| (((image[k] - origin[k]) / cell_size[k] - 0.5).ceil().max(1.0)) as usize;
+        let count = |k: usize| {
+            (((image[k] - origin[k]) / cell_size[k] - 0.5)
+                .ceil()
+                .max(1.0)) as usize
+        };
         let mut grid = Self {
             rows: count(1),
             cols: count(0),
@@ -117,7 +121,11 @@ impl StateGrid {
             if i == req.object || s.goal_holding(object) == Some(req.goal) {
                 continue;
             }
-            let margin = if s.is_sensitive(object) { s.safety.sensitive_margin } else { s.safety.obstacle_margin };
+            let margin = if s.is_sensitive(object) {
+                s.safety.sensitive_margin
+            } else {
+                s.safety.obstacle_margin
+            };
             self.paint(object.bbox, px(margin), CellCode::Obstacle);
         }
         for hand in &s.hands {
@@ -131,8 +139,12 @@ impl StateGrid {
     /// Marks every cell the box, grown by `margin` pixels, overlaps.
     fn paint(&mut self, bbox: PixelBox, [du, dv]: [f64; 2], code: CellCode) {
         let b = bbox.grown(du, dv);
-        let Some((r0, r1)) = self.span(b.v, b.l, 1) else { return };
-        let Some((c0, c1)) = self.span(b.u, b.w, 0) else { return };
+        let Some((r0, r1)) = self.span(b.v, b.l, 1) else {
+            return;
+        };
+        let Some((c0, c1)) = self.span(b.u, b.w, 0) else {
+            return;
+        };
         for r in r0..=r1 {
             for c in c0..=c1 {
                 self.set((r, c), code);
@@ -145,15 +157,21 @@ impl StateGrid {
     fn span(&self, start: f64, len: f64, k: usize) -> Option<(usize, usize)> {
         const EPS: f64 = 1e-9;
         let n = if k == 0 { self.cols } else { self.rows } as f64;
-        let lo = ((start - self.origin[k]) / self.cell_size[k] + EPS).floor().max(0.0);
-        let hi = (((start + len - self.origin[k]) / self.cell_size[k] - EPS).ceil() - 1.0).min(n - 1.0);
+        let lo = ((start - self.origin[k]) / self.cell_size[k] + EPS)
+            .floor()
+            .max(0.0);
+        let hi =
+            (((start + len - self.origin[k]) / self.cell_size[k] - EPS).ceil() - 1.0).min(n - 1.0);
         (lo <= hi).then_some((lo as usize, hi as usize))
     }
 
     /// The cell containing pixel `p`, clamped onto the grid.
     pub fn cell_at(&self, p: [f64; 2]) -> Cell {
         let idx = |k: usize, n: usize| {
-            (((p[k] - self.origin[k]) / self.cell_size[k]).floor().max(0.0) as usize).min(n - 1)
+            (((p[k] - self.origin[k]) / self.cell_size[k])
+                .floor()
+                .max(0.0) as usize)
+                .min(n - 1)
         };
         (idx(1, self.rows), idx(0, self.cols))
     }
@@ -200,7 +218,10 @@ impl StateGrid {
 
     /// The matrix s with the paper's numeric values, row by row.
     pub fn matrix(&self) -> Vec<Vec<f64>> {
-        self.codes.chunks(self.cols).map(|row| row.iter().map(|c| c.value()).collect()).collect()
+        self.codes
+            .chunks(self.cols)
+            .map(|row| row.iter().map(|c| c.value()).collect())
+            .collect()
     }
 
     /// The goal cell nearest pixel `p` (ties: lowest index).
@@ -234,11 +255,16 @@ impl StateGrid {
             target: (target / cols, target % cols),
             drop: None,
         };
-        let goals: Vec<[f64; 2]> =
-            (0..grid.len()).filter(|&i| grid.codes[i] == CellCode::Goal).map(|i| grid.centre(grid.cell(i))).collect();
+        let goals: Vec<[f64; 2]> = (0..grid.len())
+            .filter(|&i| grid.codes[i] == CellCode::Goal)
+            .map(|i| grid.centre(grid.cell(i)))
+            .collect();
         if !goals.is_empty() {
             let n = goals.len() as f64;
-            let centroid = [goals.iter().map(|p| p[0]).sum::<f64>() / n, goals.iter().map(|p| p[1]).sum::<f64>() / n];
+            let centroid = [
+                goals.iter().map(|p| p[0]).sum::<f64>() / n,
+                goals.iter().map(|p| p[1]).sum::<f64>() / n,
+            ];
             grid.drop = grid.nearest_goal_cell(centroid);
         }
         Some(grid)

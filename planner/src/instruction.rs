@@ -32,20 +32,42 @@ pub struct SubGoal {
     pub goal: String,
 }
 
-const VERBS: &[&str] = &["put", "place", "move", "take", "bring", "drop", "carry", "transfer", "set", "sort", "store"];
-const PREPOSITIONS: &[&str] = &["in", "into", "to", "onto", "on", "inside", "at", "over", "towards", "toward"];
+const VERBS: &[&str] = &[
+    "put", "place", "move", "take", "bring", "drop", "carry", "transfer", "set", "sort", "store",
+];
+const PREPOSITIONS: &[&str] = &[
+    "in", "into", "to", "onto", "on", "inside", "at", "over", "towards", "toward",
+];
 const GENERIC_SINGULAR: &[&str] = &["one", "piece", "object", "thing", "block", "item", "it"];
-const GENERIC_PLURAL: &[&str] = &["ones", "pieces", "objects", "things", "blocks", "items", "them"];
+const GENERIC_PLURAL: &[&str] = &[
+    "ones", "pieces", "objects", "things", "blocks", "items", "them",
+];
 const COLOURS: &[&str] = &[
-    "red", "green", "blue", "yellow", "orange", "purple", "pink", "black", "white", "grey", "gray", "brown", "cyan",
-    "magenta", "violet",
+    "red", "green", "blue", "yellow", "orange", "purple", "pink", "black", "white", "grey", "gray",
+    "brown", "cyan", "magenta", "violet",
 ];
 const SHAPES: &[&str] = &[
-    "square", "cube", "hexagon", "triangle", "circle", "cylinder", "star", "rectangle", "ball", "sphere", "cross",
-    "pentagon", "heart", "disc", "disk", "box",
+    "square",
+    "cube",
+    "hexagon",
+    "triangle",
+    "circle",
+    "cylinder",
+    "star",
+    "rectangle",
+    "ball",
+    "sphere",
+    "cross",
+    "pentagon",
+    "heart",
+    "disc",
+    "disk",
+    "box",
 ];
-const NUMBERS: &[&str] =
-    &["zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten", "eleven", "twelve"];
+const NUMBERS: &[&str] = &[
+    "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+    "eleven", "twelve",
+];
 
 /// A token of the normalised instruction.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,7 +105,11 @@ impl Description {
 
     fn text(&self) -> String {
         let noun = self.shape.clone().unwrap_or_else(|| "object".into());
-        let noun = if self.plural { format!("{noun}s") } else { noun };
+        let noun = if self.plural {
+            format!("{noun}s")
+        } else {
+            noun
+        };
         match &self.colour {
             Some(c) => format!("{c} {noun}"),
             None => noun,
@@ -101,14 +127,20 @@ struct Clause {
 /// Turns the scenario's instruction into ordered sub-goals.
 pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, InstructionError> {
     let tokens = tokenize(scenario);
-    if !tokens.iter().any(|t| matches!(t, Token::Word(w) if VERBS.contains(&w.as_str()))) {
+    if !tokens
+        .iter()
+        .any(|t| matches!(t, Token::Word(w) if VERBS.contains(&w.as_str())))
+    {
         return Err(InstructionError::new(format!(
             "no action verb in \"{}\" (say put, place, move, take, bring or drop)",
             scenario.instruction.trim()
         )));
     }
     let mut clauses = Vec::new();
-    for part in tokens.split(|t| *t == Token::Break).filter(|p| !p.is_empty()) {
+    for part in tokens
+        .split(|t| *t == Token::Break)
+        .filter(|p| !p.is_empty())
+    {
         let previous = clauses.last().map(|c: &Clause| c.description.clone());
         if let Some(clause) = parse_clause(scenario, part, previous)? {
             clauses.push(clause);
@@ -122,7 +154,10 @@ pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, Instruct
         let goal = clause.goal.expect("fill_goals set every goal");
         for object in choose(scenario, clause, goal, &taken, &mut rng)? {
             taken.insert(object);
-            out.push(SubGoal { object: scenario.objects[object].name.clone(), goal: scenario.goals[goal].name.clone() });
+            out.push(SubGoal {
+                object: scenario.objects[object].name.clone(),
+                goal: scenario.goals[goal].name.clone(),
+            });
         }
     }
     if out.is_empty() {
@@ -145,7 +180,10 @@ fn normalise(text: &str) -> String {
 }
 
 fn words(text: &str) -> Vec<String> {
-    normalise(text).split_whitespace().map(str::to_string).collect()
+    normalise(text)
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
 }
 
 fn tokenize(s: &Scenario) -> Vec<Token> {
@@ -154,7 +192,12 @@ fn tokenize(s: &Scenario) -> Vec<Token> {
         .iter()
         .enumerate()
         .map(|(i, g)| (words(&g.name), Token::Goal(i)))
-        .chain(s.objects.iter().enumerate().map(|(i, o)| (words(&o.name), Token::Object(i))))
+        .chain(
+            s.objects
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (words(&o.name), Token::Object(i))),
+        )
         .filter(|(w, _)| !w.is_empty())
         .collect();
     phrases.sort_by_key(|(w, _)| std::cmp::Reverse(w.len()));
@@ -162,8 +205,10 @@ fn tokenize(s: &Scenario) -> Vec<Token> {
     let mut tokens = Vec::new();
     let mut i = 0;
     while i < text.len() {
-        if let Some((len, token)) =
-            phrases.iter().find(|(w, _)| text[i..].starts_with(w)).map(|(w, t)| (w.len(), t.clone()))
+        if let Some((len, token)) = phrases
+            .iter()
+            .find(|(w, _)| text[i..].starts_with(w))
+            .map(|(w, t)| (w.len(), t.clone()))
         {
             tokens.push(token);
             i += len;
@@ -179,10 +224,17 @@ fn tokenize(s: &Scenario) -> Vec<Token> {
     tokens
 }
 
-fn parse_clause(s: &Scenario, tokens: &[Token], previous: Option<Description>) -> Result<Option<Clause>, InstructionError> {
+fn parse_clause(
+    s: &Scenario,
+    tokens: &[Token],
+    previous: Option<Description>,
+) -> Result<Option<Clause>, InstructionError> {
     let split = tokens
         .iter()
-        .position(|t| matches!(t, Token::Goal(_) | Token::Here) || matches!(t, Token::Word(w) if PREPOSITIONS.contains(&w.as_str())))
+        .position(|t| {
+            matches!(t, Token::Goal(_) | Token::Here)
+                || matches!(t, Token::Word(w) if PREPOSITIONS.contains(&w.as_str()))
+        })
         .unwrap_or(tokens.len());
     let (object_part, goal_part) = tokens.split_at(split);
     let text = tokens.iter().map(token_text).collect::<Vec<_>>().join(" ");
@@ -192,7 +244,9 @@ fn parse_clause(s: &Scenario, tokens: &[Token], previous: Option<Description>) -
         if goal.is_none() && quantity.is_none() {
             return Ok(None); // filler such as "please" or a trailing "then"
         }
-        return Err(InstructionError::new(format!("\"{text}\" does not say which objects to move")));
+        return Err(InstructionError::new(format!(
+            "\"{text}\" does not say which objects to move"
+        )));
     }
     if description.generic
         && description.colour.is_none()
@@ -202,7 +256,12 @@ fn parse_clause(s: &Scenario, tokens: &[Token], previous: Option<Description>) -
         description.colour = prev.colour;
         description.shape = prev.shape;
     }
-    Ok(Some(Clause { quantity, description, goal, text }))
+    Ok(Some(Clause {
+        quantity,
+        description,
+        goal,
+        text,
+    }))
 }
 
 fn token_text(t: &Token) -> String {
@@ -226,7 +285,10 @@ fn parse_goal(s: &Scenario, tokens: &[Token]) -> Result<Option<usize>, Instructi
     let named: Vec<&str> = tokens
         .iter()
         .filter_map(|t| match t {
-            Token::Word(w) if !PREPOSITIONS.contains(&w.as_str()) && !["the", "a", "an"].contains(&w.as_str()) => {
+            Token::Word(w)
+                if !PREPOSITIONS.contains(&w.as_str())
+                    && !["the", "a", "an"].contains(&w.as_str()) =>
+            {
                 Some(w.as_str())
             }
             _ => None,
@@ -239,12 +301,18 @@ fn parse_goal(s: &Scenario, tokens: &[Token]) -> Result<Option<usize>, Instructi
     Err(InstructionError::new(format!(
         "no goal called '{}' (goals: {})",
         named.join(" "),
-        if known.is_empty() { "none".to_string() } else { known.join(", ") }
+        if known.is_empty() {
+            "none".to_string()
+        } else {
+            known.join(", ")
+        }
     )))
 }
 
 fn nearest_goal_to_pointing(s: &Scenario) -> Result<usize, InstructionError> {
-    let p = s.pointing.ok_or_else(|| InstructionError::new("it says \"here\" but no pointing hand was seen"))?;
+    let p = s
+        .pointing
+        .ok_or_else(|| InstructionError::new("it says \"here\" but no pointing hand was seen"))?;
     let d2 = |c: [f64; 2]| (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2);
     (0..s.goals.len())
         .min_by(|&a, &b| d2(s.goals[a].bbox.centre()).total_cmp(&d2(s.goals[b].bbox.centre())))
@@ -252,10 +320,16 @@ fn nearest_goal_to_pointing(s: &Scenario) -> Result<usize, InstructionError> {
 }
 
 fn parse_objects(s: &Scenario, tokens: &[Token]) -> (Option<Quantity>, Description) {
-    let colours: BTreeSet<String> =
-        COLOURS.iter().map(|c| c.to_string()).chain(s.objects.iter().map(|o| o.color.to_lowercase())).collect();
-    let shapes: BTreeSet<String> =
-        SHAPES.iter().map(|c| c.to_string()).chain(s.objects.iter().map(|o| o.shape.to_lowercase())).collect();
+    let colours: BTreeSet<String> = COLOURS
+        .iter()
+        .map(|c| c.to_string())
+        .chain(s.objects.iter().map(|o| o.color.to_lowercase()))
+        .collect();
+    let shapes: BTreeSet<String> = SHAPES
+        .iter()
+        .map(|c| c.to_string())
+        .chain(s.objects.iter().map(|o| o.shape.to_lowercase()))
+        .collect();
     let mut quantity = None;
     let mut d = Description::default();
     let mut adjective_seen = false;
@@ -297,12 +371,22 @@ fn quantifier(w: &str) -> Option<Quantity> {
             .iter()
             .position(|n| *n == w)
             .or_else(|| w.parse::<usize>().ok())
-            .map(|n| if n == 1 { Quantity::One } else { Quantity::Count(n) }),
+            .map(|n| {
+                if n == 1 {
+                    Quantity::One
+                } else {
+                    Quantity::Count(n)
+                }
+            }),
     }
 }
 
 fn singular_of(w: &str, shapes: &BTreeSet<String>) -> Option<String> {
-    [Some(w), w.strip_suffix("es"), w.strip_suffix('s')].into_iter().flatten().find(|c| shapes.contains(*c)).map(str::to_string)
+    [Some(w), w.strip_suffix("es"), w.strip_suffix('s')]
+        .into_iter()
+        .flatten()
+        .find(|c| shapes.contains(*c))
+        .map(str::to_string)
 }
 
 fn shape_is_plural(w: &str, shapes: &BTreeSet<String>) -> bool {
@@ -317,7 +401,10 @@ fn fill_goals(clauses: &mut [Clause]) -> Result<(), InstructionError> {
             clauses[i].goal = later.or(earlier);
         }
         if clauses[i].goal.is_none() {
-            return Err(InstructionError::new(format!("\"{}\" does not say where to put them", clauses[i].text)));
+            return Err(InstructionError::new(format!(
+                "\"{}\" does not say where to put them",
+                clauses[i].text
+            )));
         }
     }
     Ok(())
@@ -335,21 +422,40 @@ fn choose(
     let matches = |i: &usize| {
         let o = &s.objects[*i];
         (d.named.is_empty() || d.named.contains(i))
-            && d.colour.as_ref().is_none_or(|c| o.color.eq_ignore_ascii_case(c))
-            && d.shape.as_ref().is_none_or(|c| o.shape.eq_ignore_ascii_case(c))
+            && d.colour
+                .as_ref()
+                .is_none_or(|c| o.color.eq_ignore_ascii_case(c))
+            && d.shape
+                .as_ref()
+                .is_none_or(|c| o.shape.eq_ignore_ascii_case(c))
             && !taken.contains(i)
     };
     let all: Vec<usize> = (0..s.objects.len()).filter(matches).collect();
-    let candidates: Vec<usize> = all.iter().copied().filter(|&i| s.goal_holding(&s.objects[i]) != Some(goal)).collect();
+    let candidates: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&i| s.goal_holding(&s.objects[i]) != Some(goal))
+        .collect();
     if candidates.is_empty() {
         let reason = if all.is_empty() {
             format!("no {} on the table", d.text())
         } else {
-            format!("every {} is already in the {goal_name}", Description { plural: false, ..d.clone() }.text())
+            format!(
+                "every {} is already in the {goal_name}",
+                Description {
+                    plural: false,
+                    ..d.clone()
+                }
+                .text()
+            )
         };
         return Err(InstructionError::new(reason));
     }
-    let default = if d.plural || d.named.len() > 1 { Quantity::All } else { Quantity::One };
+    let default = if d.plural || d.named.len() > 1 {
+        Quantity::All
+    } else {
+        Quantity::One
+    };
     let count = match clause.quantity.unwrap_or(default) {
         Quantity::All => return Ok(candidates),
         Quantity::One if clause.quantity.is_none() => return Ok(vec![candidates[0]]),
@@ -360,13 +466,24 @@ fn choose(
     if count > candidates.len() {
         return Err(InstructionError::new(format!(
             "it asks for {count} {} but {} {} available",
-            Description { plural: true, ..d.clone() }.text(),
+            Description {
+                plural: true,
+                ..d.clone()
+            }
+            .text(),
             candidates.len(),
             if candidates.len() == 1 { "is" } else { "are" }
         )));
     }
     if count == 0 {
-        return Err(InstructionError::new(format!("it asks for zero {}", Description { plural: true, ..d.clone() }.text())));
+        return Err(InstructionError::new(format!(
+            "it asks for zero {}",
+            Description {
+                plural: true,
+                ..d.clone()
+            }
+            .text()
+        )));
     }
     let mut picked: Vec<usize> = candidates.choose_multiple(rng, count).copied().collect();
     picked.sort_unstable();

@@ -108,14 +108,21 @@ pub fn plan_grid(scenario: &Scenario, seed: u64) -> Result<GridPlan, PlanError> 
                 goal: goal.goal.clone(),
                 reason: match optimal {
                     None => why_unsolvable(&scene, request),
-                    Some(_) => format!("the learner found no plan within {} training steps", learned.training_steps),
+                    Some(_) => format!(
+                        "the learner found no plan within {} training steps",
+                        learned.training_steps
+                    ),
                 },
             }),
         }
     }
     plan.timings = timings;
     if plan.subgoals.is_empty() {
-        let reasons = plan.unsolved.iter().map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason)).collect();
+        let reasons = plan
+            .unsolved
+            .iter()
+            .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
+            .collect();
         return Err(PlanError::Unsolvable { reasons });
     }
     Ok(plan)
@@ -123,8 +130,12 @@ pub fn plan_grid(scenario: &Scenario, seed: u64) -> Result<GridPlan, PlanError> 
 
 fn request(scene: &Scenario, goal: &SubGoal, gripper: [f64; 2]) -> GridRequest {
     GridRequest {
-        object: scene.object_index(&goal.object).expect("sub-goals name scenario objects"),
-        goal: scene.goal_index(&goal.goal).expect("sub-goals name scenario goals"),
+        object: scene
+            .object_index(&goal.object)
+            .expect("sub-goals name scenario objects"),
+        goal: scene
+            .goal_index(&goal.goal)
+            .expect("sub-goals name scenario goals"),
         gripper,
     }
 }
@@ -138,7 +149,12 @@ pub fn subgoal_seed(seed: u64, k: usize) -> u64 {
     z ^ (z >> 31)
 }
 
-fn subgoal_plan(goal: &SubGoal, task: &GridTask, learned: &LearnedPlan, optimal_length: usize) -> SubgoalPlan {
+fn subgoal_plan(
+    goal: &SubGoal,
+    task: &GridTask,
+    learned: &LearnedPlan,
+    optimal_length: usize,
+) -> SubgoalPlan {
     let grid = &task.grid;
     SubgoalPlan {
         object: goal.object.clone(),
@@ -148,7 +164,11 @@ fn subgoal_plan(goal: &SubGoal, task: &GridTask, learned: &LearnedPlan, optimal_
         path_px: learned.cells.iter().map(|&c| grid.centre(c)).collect(),
         training_steps: learned.training_steps,
         optimal_length,
-        grid: GridInfo { size: [grid.rows, grid.cols], cell_px: grid.cell_size, origin_px: grid.origin },
+        grid: GridInfo {
+            size: [grid.rows, grid.cols],
+            cell_px: grid.cell_size,
+            origin_px: grid.origin,
+        },
     }
 }
 
@@ -163,7 +183,10 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest) -> String {
     if grid.drop.is_none() {
         return format!("safety perimeters cover the whole {goal}");
     }
-    let without_hands = Scenario { hands: Vec::new(), ..scene.clone() };
+    let without_hands = Scenario {
+        hands: Vec::new(),
+        ..scene.clone()
+    };
     if oracle::optimal_length(&GridTask::new(StateGrid::build(&without_hands, request))).is_some() {
         return "hand blocks every route".to_string();
     }

@@ -26,8 +26,15 @@ pub enum Action {
 }
 
 impl Action {
-    pub const ALL: [Action; 7] =
-        [Action::Up, Action::Down, Action::Left, Action::Right, Action::Grasp, Action::Drop, Action::Goal];
+    pub const ALL: [Action; 7] = [
+        Action::Up,
+        Action::Down,
+        Action::Left,
+        Action::Right,
+        Action::Grasp,
+        Action::Drop,
+        Action::Goal,
+    ];
     /// The displacement actions I of equation (8).
     pub const MOVES: [Action; 4] = [Action::Up, Action::Down, Action::Left, Action::Right];
     pub const COUNT: usize = 7;
@@ -95,7 +102,10 @@ impl GridTask {
     }
 
     pub fn start(&self) -> AgentState {
-        AgentState { cell: self.grid.start, holding: false }
+        AgentState {
+            cell: self.grid.start,
+            holding: false,
+        }
     }
 
     pub fn state_count(&self) -> usize {
@@ -107,7 +117,10 @@ impl GridTask {
     }
 
     pub fn state(&self, index: usize) -> AgentState {
-        AgentState { cell: self.grid.cell(index / 2), holding: index % 2 == 1 }
+        AgentState {
+            cell: self.grid.cell(index / 2),
+            holding: index % 2 == 1,
+        }
     }
 
     /// The transition function T(s' | s, a) (deterministic) under the rules
@@ -116,7 +129,9 @@ impl GridTask {
         let grid = &self.grid;
         if !s.holding {
             return match a {
-                Action::Grasp if s.cell == grid.target => Outcome::Moved(AgentState { holding: true, ..s }),
+                Action::Grasp if s.cell == grid.target => {
+                    Outcome::Moved(AgentState { holding: true, ..s })
+                }
                 _ if s.cell == grid.target => Outcome::Refused,
                 _ => self.move_to(s, a),
             };
@@ -125,7 +140,10 @@ impl GridTask {
             (Action::Drop, Some(drop)) if s.cell == drop => Outcome::Done,
             (_, Some(drop)) if s.cell == drop => Outcome::Refused,
             (Action::Goal, Some(drop)) if self.near_goal[grid.index(s.cell)] => {
-                Outcome::Moved(AgentState { cell: drop, holding: true })
+                Outcome::Moved(AgentState {
+                    cell: drop,
+                    holding: true,
+                })
             }
             _ if self.near_goal[grid.index(s.cell)] => Outcome::Refused,
             _ => self.move_to(s, a),
@@ -135,8 +153,13 @@ impl GridTask {
     /// A displacement into a cell on the grid that is not 0.2/0.4, and not
     /// into the goal while holding (the GOAL macro does that).
     fn move_to(&self, s: AgentState, a: Action) -> Outcome {
-        let Some((dr, dc)) = a.delta() else { return Outcome::Refused };
-        let (Some(r), Some(c)) = (s.cell.0.checked_add_signed(dr), s.cell.1.checked_add_signed(dc)) else {
+        let Some((dr, dc)) = a.delta() else {
+            return Outcome::Refused;
+        };
+        let (Some(r), Some(c)) = (
+            s.cell.0.checked_add_signed(dr),
+            s.cell.1.checked_add_signed(dc),
+        ) else {
             return Outcome::Refused;
         };
         if r >= self.grid.rows || c >= self.grid.cols {
@@ -146,7 +169,10 @@ impl GridTask {
         if code.is_blocked() || (s.holding && code == CellCode::Goal) {
             return Outcome::Refused;
         }
-        Outcome::Moved(AgentState { cell: (r, c), holding: s.holding })
+        Outcome::Moved(AgentState {
+            cell: (r, c),
+            holding: s.holding,
+        })
     }
 
     /// True when GOAL is possible from the cell: it is 8-adjacent to a goal
@@ -163,7 +189,9 @@ fn touches_goal(grid: &StateGrid, (r, c): Cell) -> bool {
     }
     (-1isize..=1).any(|dr| {
         (-1isize..=1).any(|dc| {
-            let (Some(rr), Some(cc)) = (r.checked_add_signed(dr), c.checked_add_signed(dc)) else { return false };
+            let (Some(rr), Some(cc)) = (r.checked_add_signed(dr), c.checked_add_signed(dc)) else {
+                return false;
+            };
             rr < grid.rows && cc < grid.cols && grid.code((rr, cc)) == CellCode::Goal
         })
     })

@@ -9,14 +9,24 @@ use super::{BenchCqlArgs, ExitKind, Failure};
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
     if args.scenarios == 0 {
-        return Err(Failure::new(ExitKind::BadInput, "--scenarios must be at least 1"));
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenarios must be at least 1",
+        ));
     }
-    let config = CqlBenchConfig { scenarios: args.scenarios, seed: args.seed, ..Default::default() };
+    let config = CqlBenchConfig {
+        scenarios: args.scenarios,
+        seed: args.seed,
+        ..Default::default()
+    };
     let bar = progress_bar(args.scenarios as u64, "scenes");
     let report = cql::run(&config, |done| bar.set_position(done as u64));
     bar.finish_and_clear();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("report serialises")
+        );
     } else {
         print!("{}", report.table());
     }
@@ -30,6 +40,8 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
     }
     let bar = ProgressBar::new(len);
     let template = format!("{{bar:40}} {{pos}}/{{len}} {unit} ({{eta}} left)");
-    bar.set_style(ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar
 }

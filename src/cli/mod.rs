@@ -83,7 +83,10 @@ pub enum ExitKind {
 
 impl Failure {
     pub fn new(code: ExitKind, message: impl Into<String>) -> Self {
-        Self { code, message: message.into() }
+        Self {
+            code,
+            message: message.into(),
+        }
     }
 }
 

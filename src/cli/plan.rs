@@ -19,9 +19,18 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     if plan.unsolved.is_empty() {
         return Ok(());
     }
-    let reasons: Vec<String> =
-        plan.unsolved.iter().map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason)).collect();
-    Err(Failure::new(ExitKind::CouldNotPlan, format!("some sub-goals could not be planned:\n  - {}", reasons.join("\n  - "))))
+    let reasons: Vec<String> = plan
+        .unsolved
+        .iter()
+        .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
+        .collect();
+    Err(Failure::new(
+        ExitKind::CouldNotPlan,
+        format!(
+            "some sub-goals could not be planned:\n  - {}",
+            reasons.join("\n  - ")
+        ),
+    ))
 }
 
 /// The scenario from the file argument, or the embedded default.
@@ -35,7 +44,10 @@ pub fn load(args: &PlanArgs) -> Result<Scenario, Failure> {
 
 fn source_name(args: &PlanArgs) -> String {
     match &args.scenario {
-        Some(path) => path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned()),
+        Some(path) => path.file_stem().map_or_else(
+            || path.display().to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        ),
         None => scenario::DEFAULT_SCENARIO_NAME.to_string(),
     }
 }

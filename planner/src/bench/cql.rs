@@ -21,7 +21,11 @@ pub struct CqlBenchConfig {
 
 impl Default for CqlBenchConfig {
     fn default() -> Self {
-        Self { scenarios: 100, seed: 1, settings: LearnerSettings::default() }
+        Self {
+            scenarios: 100,
+            seed: 1,
+            settings: LearnerSettings::default(),
+        }
     }
 }
 
@@ -44,8 +48,14 @@ pub struct CqlBenchReport {
     pub scenarios: usize,
     /// Scenes the BFS oracle can solve; rates are over these.
     pub solvable: usize,
+    /// CQL with afford's schedule ([`LearnerSettings::default`]).
     pub cql: LearnerSummary,
+    /// Plain QL with the same settings.
     pub ql: LearnerSummary,
+    /// CQL with the authors' literal schedule ([`LearnerSettings::paper`]).
+    pub cql_paper: LearnerSummary,
+    /// Plain QL with the authors' literal schedule.
+    pub ql_paper: LearnerSummary,
     /// Grid sizes seen, cells: smallest and largest n·m.
     pub cells_min: usize,
     pub cells_max: usize,
@@ -72,7 +82,11 @@ impl Samples {
 
     fn summary(&self, solvable: usize) -> LearnerSummary {
         LearnerSummary {
-            success_rate: if solvable == 0 { 0.0 } else { self.solved as f64 / solvable as f64 },
+            success_rate: if solvable == 0 {
+                0.0
+            } else {
+                self.solved as f64 / solvable as f64
+            },
             mean_steps: mean(&self.steps),
             median_steps: median(&self.steps),
             mean_ms: mean(&self.ms),
@@ -84,13 +98,25 @@ impl Samples {
 
 /// Runs the benchmark; `progress` is called after each scene.
 pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBenchReport {
-    let cql = ContextualQLearner::new(config.settings.clone());
-    let ql = QLearner::new(config.settings.clone());
-    let (mut c, mut q) = (Samples::default(), Samples::default());
-    let mut report = CqlBenchReport { scenarios: config.scenarios, cells_min: usize::MAX, ..Default::default() };
+    let learners = [
+        Learner::Contextual(ContextualQLearner::new(config.settings.clone())),
+        Learner::Plain(QLearner::new(config.settings.clone())),
+        Learner::Contextual(ContextualQLearner::new(LearnerSettings::paper())),
+        Learner::Plain(QLearner::new(LearnerSettings::paper())),
+    ];
+    let mut samples: [Samples; 4] = Default::default();
+    let mut report = CqlBenchReport {
+        scenarios: config.scenarios,
+        cells_min: usize::MAX,
+        ..Default::default()
+    };
     for index in 0..config.scenarios {
         let scene = generator::scene(config.seed, index);
-        let request = GridRequest { object: 0, goal: 0, gripper: scene.robot.start };
+        let request = GridRequest {
+            object: 0,
+            goal: 0,
+            gripper: scene.robot.start,
+        };
         let grid = StateGrid::build(&scene, request);
         report.cells_min = report.cells_min.min(grid.len());
         report.cells_max = report.cells_max.max(grid.len());
@@ -98,16 +124,30 @@ pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBench
         if let Some(optimal) = oracle::optimal_length(&task) {
             report.solvable += 1;
             let seed = config.seed.wrapping_add(index as u64);
-            let (plan, ms) = timed(|| cql.learn(&GridTask::new(grid.clone()), seed));
-            c.record(&plan, ms, optimal);
-            let (plan, ms) = timed(|| ql.learn(&GridTask::new(grid.clone()), seed));
-            q.record(&plan, ms, optimal);
+            for (learner, sample) in learners.iter().zip(&mut samples) {
+                let (plan, ms) = timed(|| learner.learn(&GridTask::new(grid.clone()), seed));
+                sample.record(&plan, ms, optimal);
+            }
         }
         progress(index + 1);
     }
-    report.cql = c.summary(report.solvable);
-    report.ql = q.summary(report.solvable);
+    [report.cql, report.ql, report.cql_paper, report.ql_paper] =
+        samples.map(|s| s.summary(report.solvable));
     report
+}
+
+enum Learner {
+    Contextual(ContextualQLearner),
+    Plain(QLearner),
+}
+
+impl Learner {
+    fn learn(&self, task: &GridTask, seed: u64) -> LearnedPlan {
+        match self {
+            Learner::Contextual(l) => l.learn(task, seed),
+            Learner::Plain(l) => l.learn(task, seed),
+        }
+    }
 }
 
 /// Runs `f`, returning its value and the wall time in milliseconds. The task
@@ -125,10 +165,16 @@ impl CqlBenchReport {
             "{} scenes ({} solvable by the BFS oracle), grids of {}..{} cells\n\n",
             self.scenarios, self.solvable, self.cells_min, self.cells_max
         );
-        out.push_str("algorithm  success  mean steps  median steps  mean ms  median ms  length/optimal\n");
-        for (name, s) in [("CQL", &self.cql), ("QL", &self.ql)] {
+        out.push_str("algorithm            success  mean steps  median steps  mean ms  median ms  length/optimal\n");
+        let rows = [
+            ("CQL", &self.cql),
+            ("QL", &self.ql),
+            ("CQL, paper schedule", &self.cql_paper),
+            ("QL, paper schedule", &self.ql_paper),
+        ];
+        for (name, s) in rows {
             out.push_str(&format!(
-                "{name:<9}  {:>6.1}%  {:>10.0}  {:>12.0}  {:>7.2}  {:>9.2}  {:>14.3}\n",
+                "{name:<19}  {:>6.1}%  {:>10.0}  {:>12.0}  {:>7.2}  {:>9.2}  {:>14.3}\n",
                 s.success_rate * 100.0,
                 s.mean_steps,
                 s.median_steps,

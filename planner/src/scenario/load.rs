@@ -33,8 +33,10 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     let file = path.display().to_string();
     let format =
         Format::from_path(path).ok_or_else(|| ScenarioError::Extension { file: file.clone() })?;
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ScenarioError::Io { file: file.clone(), message: e.to_string() })?;
+    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io {
+        file: file.clone(),
+        message: e.to_string(),
+    })?;
     parse(&text, format, &file)
 }
 
@@ -48,7 +50,10 @@ pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, Scenari
     if issues.is_empty() {
         Ok(scenario)
     } else {
-        Err(ScenarioError::Invalid { file: file.to_string(), issues })
+        Err(ScenarioError::Invalid {
+            file: file.to_string(),
+            issues,
+        })
     }
 }
 

@@ -106,12 +106,21 @@ impl PixelBox {
 
     /// The box grown by `du` pixels along u and `dv` along v on every side.
     pub fn grown(&self, du: f64, dv: f64) -> Self {
-        Self { u: self.u - du, v: self.v - dv, w: self.w + 2.0 * du, l: self.l + 2.0 * dv }
+        Self {
+            u: self.u - du,
+            v: self.v - dv,
+            w: self.w + 2.0 * du,
+            l: self.l + 2.0 * dv,
+        }
     }
 
     /// The same footprint with its centre moved to `centre`.
     pub fn centred_at(&self, [cu, cv]: [f64; 2]) -> Self {
-        Self { u: cu - self.w / 2.0, v: cv - self.l / 2.0, ..*self }
+        Self {
+            u: cu - self.w / 2.0,
+            v: cv - self.l / 2.0,
+            ..*self
+        }
     }
 }
 
@@ -164,7 +173,11 @@ pub struct Safety {
 
 impl Default for Safety {
     fn default() -> Self {
-        Self { obstacle_margin: 0.02, sensitive_margin: 0.06, hand_margin: 0.10 }
+        Self {
+            obstacle_margin: 0.02,
+            sensitive_margin: 0.06,
+            hand_margin: 0.10,
+        }
     }
 }
 
@@ -205,6 +218,9 @@ impl Scenario {
     /// Table-plane point (x, y) in the robot base frame for a pixel.
     pub fn pixel_to_base(&self, [u, v]: [f64; 2]) -> [f64; 2] {
         let m = &self.camera.pixel_to_base;
-        [m[0][0] * u + m[0][1] * v + m[0][2], m[1][0] * u + m[1][1] * v + m[1][2]]
+        [
+            m[0][0] * u + m[0][1] * v + m[0][2],
+            m[1][0] * u + m[1][1] * v + m[1][2],
+        ]
     }
 }
