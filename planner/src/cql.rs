@@ -389,46 +389,51 @@ impl<'a> Training<'a> {
     /// masked argmax with random tie-breaking.
     fn select(&mut self, i: usize) -> Action {
         let mask = self.choices(i);
-        let row: [f64; Action::COUNT] = self.q[i * Action::COUNT..(i + 1) * Action::COUNT]
-            .try_into()
-            .unwrap_or([0.0; 7]);
-        let allowed = Action::ALL
-            .into_iter()
-            .filter(|a| mask & (1 << a.index()) != 0);
+        let row = &self.q[i * Action::COUNT..(i + 1) * Action::COUNT];
+        let allowed = |a: &Action| mask & (1 << a.index()) != 0;
         let explore = !self.searching() && self.rng.random::<f64>() < self.settings.epsilon;
-        let weights: Vec<(Action, f64)> = if explore {
-            let min = allowed
-                .clone()
+        let mut weights = [0.0; Action::COUNT];
+        if explore {
+            let min = Action::ALL
+                .iter()
+                .filter(|a| allowed(a))
                 .map(|a| row[a.index()])
-                .fold(f64::INFINITY, f64::min)
-                .min(0.0);
-            match self.variant {
-                Variant::Contextual => allowed.map(|a| (a, row[a.index()] - min + 1e-9)).collect(),
-                Variant::Plain => allowed.map(|a| (a, 1.0)).collect(),
+                .fold(0.0, f64::min);
+            for a in Action::ALL.iter().filter(|a| allowed(a)) {
+                weights[a.index()] = match self.variant {
+                    Variant::Contextual => row[a.index()] - min + 1e-9,
+                    Variant::Plain => 1.0,
+                };
             }
         } else {
-            let max = allowed
-                .clone()
+            let max = Action::ALL
+                .iter()
+                .filter(|a| allowed(a))
                 .map(|a| row[a.index()])
                 .fold(f64::NEG_INFINITY, f64::max);
-            allowed
-                .filter(|a| row[a.index()] >= max)
-                .map(|a| (a, 1.0))
-                .collect()
-        };
+            for a in Action::ALL
+                .iter()
+                .filter(|a| allowed(a) && row[a.index()] >= max)
+            {
+                weights[a.index()] = 1.0;
+            }
+        }
         self.sample(&weights)
     }
 
-    fn sample(&mut self, weights: &[(Action, f64)]) -> Action {
-        let total: f64 = weights.iter().map(|w| w.1).sum();
+    /// Draws an action with probability proportional to its weight.
+    fn sample(&mut self, weights: &[f64; Action::COUNT]) -> Action {
+        let total: f64 = weights.iter().sum();
         let mut x = self.rng.random::<f64>() * total;
-        for &(a, w) in weights {
-            if x < w {
+        let mut last = Action::Up;
+        for a in Action::ALL.into_iter().filter(|a| weights[a.index()] > 0.0) {
+            if x < weights[a.index()] {
                 return a;
             }
-            x -= w;
+            x -= weights[a.index()];
+            last = a;
         }
-        weights.last().map_or(Action::Up, |w| w.0)
+        last
     }
 
     /// Follows the masked argmax from the start until DROP, a refused action

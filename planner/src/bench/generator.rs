@@ -20,15 +20,32 @@ const CELL_METRES: f64 = 0.04;
 const COLOURS: [&str; 5] = ["red", "green", "yellow", "black", "white"];
 const SHAPES: [&str; 4] = ["square", "hexagon", "triangle", "circle"];
 
-/// Scene number `index` of the seeded series `seed`.
+/// Scene number `index` of the seeded series `seed`, on a grid of 10 to 40
+/// cells a side.
 pub fn scene(seed: u64, index: usize) -> Scenario {
-    let mut rng =
-        ChaCha8Rng::seed_from_u64(seed ^ (index as u64).wrapping_mul(0xA24B_AED4_963E_E407));
+    let mut rng = scene_rng(seed, index);
+    let size = [rng.random_range(10..=40), rng.random_range(10..=40)];
+    layout(&mut rng, size, format!("bench-{seed}-{index}"))
+}
+
+/// Like [`scene`], with `cols` × `rows` cells.
+pub fn scene_of_size(seed: u64, index: usize, cols: usize, rows: usize) -> Scenario {
+    layout(
+        &mut scene_rng(seed, index),
+        [cols, rows],
+        format!("bench-{seed}-{index}-{cols}x{rows}"),
+    )
+}
+
+fn scene_rng(seed: u64, index: usize) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed ^ (index as u64).wrapping_mul(0xA24B_AED4_963E_E407))
+}
+
+fn layout(rng: &mut ChaCha8Rng, [m, n]: [usize; 2], name: String) -> Scenario {
     let (cw, cl) = (
         rng.random_range(24..=48) as f64,
         rng.random_range(24..=48) as f64,
     );
-    let (m, n) = (rng.random_range(10..=40), rng.random_range(10..=40));
     let (width, height) = (m as f64 * cw, n as f64 * cl);
     let cell = |rng: &mut ChaCha8Rng| {
         [
@@ -36,7 +53,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
             rng.random_range(0..n) as f64 * cl,
         ]
     };
-    let target = cell(&mut rng);
+    let target = cell(rng);
     let goal_size = [
         rng.random_range(1..=3) as f64 * cw,
         rng.random_range(1..=3) as f64 * cl,
@@ -45,7 +62,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
         rng.random_range(0.0..width - goal_size[0]),
         rng.random_range(0.0..height - goal_size[1]),
     ];
-    let start = cell(&mut rng);
+    let start = cell(rng);
     let mut objects = vec![Object {
         name: "target".into(),
         color: "blue".into(),
@@ -81,7 +98,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
             rng.random_range(0.4..1.5) * cw,
             rng.random_range(0.4..1.5) * cl,
         ];
-        let Some(bbox) = place(&mut rng, size) else {
+        let Some(bbox) = place(rng, size) else {
             continue;
         };
         objects.push(Object {
@@ -100,7 +117,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
         } else {
             [0.3 * cw, height * fraction]
         };
-        if let Some(bbox) = place(&mut rng, size) {
+        if let Some(bbox) = place(rng, size) {
             objects.push(Object {
                 name: "wall".into(),
                 color: "white".into(),
@@ -117,7 +134,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
     };
     let hands = (0..hand_count)
         .filter_map(|k| {
-            let bbox = place(&mut rng, [1.5 * cw, 2.0 * cl])?;
+            let bbox = place(rng, [1.5 * cw, 2.0 * cl])?;
             Some(Hand {
                 name: format!("hand-{k}"),
                 bbox,
@@ -133,7 +150,7 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
     let px_to_m = CELL_METRES / cw.max(cl);
     Scenario {
         afford: FORMAT_VERSION,
-        name: Some(format!("bench-{seed}-{index}")),
+        name: Some(name),
         camera: Camera {
             width: width.ceil() as u32,
             height: height.ceil() as u32,
