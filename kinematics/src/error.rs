@@ -54,6 +54,12 @@ pub enum KinematicsError {
         arm: String,
         known: String,
     },
+    /// A settings field out of its range.
+    #[error("settings: {field} {problem}")]
+    Settings {
+        field: &'static str,
+        problem: String,
+    },
     /// A joint vector of the wrong length.
     #[error("{what} has {got} values, expected {expected}")]
     ConfigSize {

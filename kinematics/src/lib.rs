@@ -10,17 +10,25 @@
 //! One pose type, [`Pose`] (nalgebra 0.30 `Isometry3<f64>`), is used throughout;
 //! k's types stay in the `kchain` module.
 
+mod bench;
 mod builtin;
 mod chain;
 mod description;
 mod error;
+mod ik;
+mod kchain;
 mod load;
 mod math;
 mod model;
 mod urdf;
 
+pub use bench::{
+    ArmBench, BENCH_POSITION_TOLERANCE, BENCH_ROTATION_TOLERANCE, IkBenchReport, bench_arm,
+    ik_benchmark, random_reachable_poses,
+};
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use description::{DESCRIPTION_FORMAT, Gripper};
 pub use error::{IkFailure, KinematicsError};
+pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use math::*;
 pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};
