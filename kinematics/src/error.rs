@@ -93,6 +93,10 @@ pub enum IkFailure {
         position_error: f64,
         rotation_error: f64,
     },
+    /// A solution exists near the previous waypoint only after a jump larger
+    /// than allowed (a branch change); path IK refuses it.
+    #[error("the next solution is {step:.3} rad away from the previous waypoint (branch change)")]
+    Discontinuous { step: f64 },
     /// The request itself is unusable (wrong seed length, non-finite target).
     #[error("invalid IK request: {reason}")]
     InvalidRequest { reason: &'static str },

@@ -64,6 +64,7 @@ impl KSolver {
     }
 
     /// Tool pose for joint values (k's FK).
+    #[cfg(test)]
     pub fn fk(&self, q: &[Real]) -> Pose {
         self.chain.set_joint_positions_unchecked(q);
         self.chain.end_transform()

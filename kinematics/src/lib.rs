@@ -13,6 +13,7 @@
 mod bench;
 mod builtin;
 mod chain;
+mod choose;
 mod description;
 mod error;
 mod ik;
@@ -20,6 +21,7 @@ mod kchain;
 mod load;
 mod math;
 mod model;
+mod path;
 mod urdf;
 
 pub use bench::{
@@ -27,8 +29,10 @@ pub use bench::{
     ik_benchmark, random_reachable_poses,
 };
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
+pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
 pub use description::{DESCRIPTION_FORMAT, Gripper};
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use math::*;
 pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};
+pub use path::{JointPath, PathFailure, PathSettings, max_joint_step};

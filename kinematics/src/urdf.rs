@@ -38,10 +38,9 @@ pub(crate) struct TreeJoint {
     pub acceleration: Real,
 }
 
-/// A parsed URDF: the robot's name and its links root first.
+/// A parsed URDF: its links, root first.
 #[derive(Debug, Clone)]
 pub(crate) struct Tree {
-    pub name: String,
     pub links: Vec<TreeLink>,
 }
 
@@ -187,10 +186,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
             colliders,
         });
     }
-    Ok(Tree {
-        name: robot.name,
-        links,
-    })
+    Ok(Tree { links })
 }
 
 fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsError> {
