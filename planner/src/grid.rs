@@ -14,6 +14,9 @@
 //!   including other targets, and every other goal with what rests in it),
 //!   hands 0.4, and finally the target 0.1 unless a hand covers it. Objects
 //!   already resting in the sub-goal's own goal are part of that goal.
+//! - If the gripper starts over obstacle cells (it has just released into a
+//!   box that is an obstacle for the next sub-goal), that connected obstacle
+//!   region is cleared: the gripper is above it and must be able to leave.
 
 use crate::scenario::{PixelBox, Scenario};
 
@@ -106,6 +109,7 @@ impl StateGrid {
         grid.start = grid.cell_at(req.gripper);
         grid.target = grid.cell_at(target_box.centre());
         grid.paint_scene(scenario, req);
+        grid.clear_escape(grid.start);
         grid.drop = grid.nearest_goal_cell(scenario.goals[req.goal].bbox.centre());
         grid
     }
@@ -134,6 +138,32 @@ impl StateGrid {
         if self.code(self.target) != CellCode::Hand {
             self.set(self.target, CellCode::Target);
         }
+    }
+
+    /// When the gripper starts over obstacle cells (it has just released
+    /// into a box that is an obstacle for this sub-goal), the 4-connected
+    /// obstacle region under it becomes free: the gripper is above it at
+    /// carry height and must be able to leave. Hand cells are never cleared.
+    fn clear_escape(&mut self, start: Cell) {
+        let mut stack = vec![start];
+        while let Some(cell) = stack.pop() {
+            if self.code(cell) != CellCode::Obstacle {
+                continue;
+            }
+            self.set(cell, CellCode::Empty);
+            stack.extend(self.neighbours(cell));
+        }
+    }
+
+    /// The 4-neighbours of a cell that lie on the grid.
+    pub fn neighbours(&self, (r, c): Cell) -> impl Iterator<Item = Cell> + use<> {
+        let (rows, cols) = (self.rows, self.cols);
+        [(-1isize, 0isize), (1, 0), (0, -1), (0, 1)]
+            .into_iter()
+            .filter_map(move |(dr, dc)| {
+                let (r, c) = (r.checked_add_signed(dr)?, c.checked_add_signed(dc)?);
+                (r < rows && c < cols).then_some((r, c))
+            })
     }
 
     /// Marks every cell the box, grown by `margin` pixels, overlaps.
@@ -284,4 +314,28 @@ fn aligned_origin(target_start: f64, size: f64) -> f64 {
 
 fn dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
+}
+
+/// A text picture of the grid, one character per cell: `.` empty, `T`
+/// target, `#` obstacle, `G` goal, `H` hand, `S` start, `D` drop cell.
+impl std::fmt::Display for StateGrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for r in 0..self.rows {
+            let line: String = (0..self.cols)
+                .map(|c| match (r, c) {
+                    cell if cell == self.start => 'S',
+                    cell if Some(cell) == self.drop => 'D',
+                    cell => match self.code(cell) {
+                        CellCode::Empty => '.',
+                        CellCode::Target => 'T',
+                        CellCode::Obstacle => '#',
+                        CellCode::Goal => 'G',
+                        CellCode::Hand => 'H',
+                    },
+                })
+                .collect();
+            writeln!(f, "{line}")?;
+        }
+        Ok(())
+    }
 }

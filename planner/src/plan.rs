@@ -180,6 +180,9 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest) -> String {
     if grid.code(grid.target) == CellCode::Hand {
         return format!("a hand covers {object}");
     }
+    if grid.code(grid.start) == CellCode::Hand {
+        return "a hand's perimeter covers the gripper: wait for the hand to move".to_string();
+    }
     if grid.drop.is_none() {
         return format!("safety perimeters cover the whole {goal}");
     }

@@ -90,15 +90,16 @@ pub enum Outcome {
 #[derive(Debug, Clone)]
 pub struct GridTask {
     pub grid: StateGrid,
-    near_goal: Vec<bool>,
+    /// Per cell, the goal cell where the GOAL macro enters the box from it.
+    entry: Vec<Option<Cell>>,
 }
 
 impl GridTask {
     pub fn new(grid: StateGrid) -> Self {
-        let near_goal = (0..grid.len())
-            .map(|i| touches_goal(&grid, grid.cell(i)) && carry_is_clear(&grid, grid.cell(i)))
+        let entry = (0..grid.len())
+            .map(|i| goal_entry(&grid, grid.cell(i)))
             .collect();
-        Self { grid, near_goal }
+        Self { grid, entry }
     }
 
     pub fn start(&self) -> AgentState {
@@ -139,13 +140,11 @@ impl GridTask {
         match (a, grid.drop) {
             (Action::Drop, Some(drop)) if s.cell == drop => Outcome::Done,
             (_, Some(drop)) if s.cell == drop => Outcome::Refused,
-            (Action::Goal, Some(drop)) if self.near_goal[grid.index(s.cell)] => {
-                Outcome::Moved(AgentState {
-                    cell: drop,
-                    holding: true,
-                })
-            }
-            _ if self.near_goal[grid.index(s.cell)] => Outcome::Refused,
+            (Action::Goal, Some(drop)) if self.is_near_goal(s.cell) => Outcome::Moved(AgentState {
+                cell: drop,
+                holding: true,
+            }),
+            _ if self.is_near_goal(s.cell) => Outcome::Refused,
             _ => self.move_to(s, a),
         }
     }
@@ -175,37 +174,63 @@ impl GridTask {
         })
     }
 
-    /// True when GOAL is possible from the cell: it is 8-adjacent to a goal
-    /// cell (and not one itself) and the straight carry to the drop cell
-    /// crosses no 0.2/0.4 cell.
+    /// True when GOAL is possible from the cell (see [`Self::goal_entry`]).
     pub fn is_near_goal(&self, cell: Cell) -> bool {
-        self.near_goal[self.grid.index(cell)]
+        self.entry[self.grid.index(cell)].is_some()
+    }
+
+    /// Where the GOAL macro from `cell` crosses into the box: an 8-adjacent
+    /// goal cell. `None` when GOAL is not possible from `cell`.
+    pub fn goal_entry(&self, cell: Cell) -> Option<Cell> {
+        self.entry[self.grid.index(cell)]
     }
 }
 
-fn touches_goal(grid: &StateGrid, (r, c): Cell) -> bool {
-    if grid.code((r, c)) == CellCode::Goal || grid.drop.is_none() {
-        return false;
+/// The GOAL macro from `from`: the 8-adjacent goal cell nearest the drop
+/// cell such that the straight carry from `from` into it and on to the drop
+/// cell touches no 0.2/0.4 cell (corners included). `None` from a goal cell,
+/// from a cell no goal cell touches, or when every carry is blocked.
+fn goal_entry(grid: &StateGrid, from: Cell) -> Option<Cell> {
+    let drop = grid.drop?;
+    if grid.code(from) == CellCode::Goal {
+        return None;
     }
-    (-1isize..=1).any(|dr| {
-        (-1isize..=1).any(|dc| {
-            let (Some(rr), Some(cc)) = (r.checked_add_signed(dr), c.checked_add_signed(dc)) else {
-                return false;
-            };
-            rr < grid.rows && cc < grid.cols && grid.code((rr, cc)) == CellCode::Goal
+    let (r, c) = (from.0 as isize, from.1 as isize);
+    let mut entries: Vec<Cell> = (-1..=1)
+        .flat_map(|dr| (-1..=1).map(move |dc| (r + dr, c + dc)))
+        .filter(|&(rr, cc)| {
+            rr >= 0 && cc >= 0 && (rr as usize) < grid.rows && (cc as usize) < grid.cols
         })
-    })
+        .map(|(rr, cc)| (rr as usize, cc as usize))
+        .filter(|&cell| grid.code(cell) == CellCode::Goal)
+        .collect();
+    entries.sort_by_key(|e| {
+        (
+            e.0.abs_diff(drop.0).pow(2) + e.1.abs_diff(drop.1).pow(2),
+            *e,
+        )
+    });
+    entries
+        .into_iter()
+        .find(|&entry| segment_is_clear(grid, from, entry) && segment_is_clear(grid, entry, drop))
 }
 
-/// The GOAL macro's straight segment from `from`'s centre to the drop cell's
-/// centre, sampled every 1/32 of a cell, touches no blocked cell.
-fn carry_is_clear(grid: &StateGrid, from: Cell) -> bool {
-    let Some(drop) = grid.drop else { return false };
-    let (a, b) = (grid.centre(from), grid.centre(drop));
-    let cells = ((from.0.abs_diff(drop.0) + from.1.abs_diff(drop.1)) * 32).max(1);
-    (0..=cells).all(|i| {
-        let t = i as f64 / cells as f64;
+/// The straight segment between two cell centres touches no blocked cell:
+/// sampled every 1/64 of a cell, each sample checked in every cell within
+/// 1e-6 px of it, so passing exactly through a corner counts all four cells.
+fn segment_is_clear(grid: &StateGrid, from: Cell, to: Cell) -> bool {
+    let (a, b) = (grid.centre(from), grid.centre(to));
+    let samples = ((from.0.abs_diff(to.0) + from.1.abs_diff(to.1)) * 64).max(1);
+    let eps = [1e-6 * grid.cell_size[0], 1e-6 * grid.cell_size[1]];
+    (0..=samples).all(|i| {
+        let t = i as f64 / samples as f64;
         let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-        !grid.code(grid.cell_at(p)).is_blocked()
+        [-1.0, 1.0].iter().all(|su| {
+            [-1.0, 1.0].iter().all(|sv| {
+                !grid
+                    .code(grid.cell_at([p[0] + su * eps[0], p[1] + sv * eps[1]]))
+                    .is_blocked()
+            })
+        })
     })
 }

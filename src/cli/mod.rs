@@ -3,6 +3,7 @@
 mod bench;
 mod output;
 mod plan;
+mod validate;
 
 use std::path::PathBuf;
 
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Plan a scenario (the embedded default scenario when no file is given).
     Plan(PlanArgs),
+    /// Parse a scenario and explain it (objects, margins, sub-goals, grids) without planning.
+    Validate(ValidateArgs),
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -38,6 +41,15 @@ pub struct PlanArgs {
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ValidateArgs {
+    /// Scenario file (.yaml, .yml or .json); omitted: the built-in default scenario.
+    pub scenario: Option<PathBuf>,
+    /// Seed for instructions that choose at random ("some", "two of them").
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -93,6 +105,7 @@ impl Failure {
 pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Plan(args) => plan::run(&args),
+        Command::Validate(args) => validate::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
     }
 }

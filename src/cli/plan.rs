@@ -1,5 +1,7 @@
 //! `afford plan`: scenario file → discrete plan.
 
+use std::path::Path;
+
 use afford_planner::scenario::{self, Scenario};
 use afford_planner::{PlanError, plan_grid};
 
@@ -7,7 +9,7 @@ use super::output::{emit, render};
 use super::{ExitKind, Failure, PlanArgs};
 
 pub fn run(args: &PlanArgs) -> Result<(), Failure> {
-    let mut scenario = load(args)?;
+    let mut scenario = load(args.scenario.as_deref())?;
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args));
     }
@@ -34,8 +36,8 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
 }
 
 /// The scenario from the file argument, or the embedded default.
-pub fn load(args: &PlanArgs) -> Result<Scenario, Failure> {
-    let loaded = match &args.scenario {
+pub fn load(path: Option<&Path>) -> Result<Scenario, Failure> {
+    let loaded = match path {
         Some(path) => scenario::load(path),
         None => scenario::default_scenario(),
     };

@@ -1,0 +1,114 @@
+//! `afford validate`: parse a scenario and explain it without planning.
+
+use std::fmt::Write;
+
+use afford_planner::grid::{GridRequest, StateGrid};
+use afford_planner::instruction::subgoals;
+use afford_planner::scenario::Scenario;
+
+use super::plan::load;
+use super::{Failure, ValidateArgs};
+
+pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
+    let scenario = load(args.scenario.as_deref())?;
+    print!("{}", explain(&scenario, args.seed));
+    Ok(())
+}
+
+fn explain(s: &Scenario, seed: u64) -> String {
+    let mut out = String::new();
+    let [mu, mv] = s.metres_per_pixel();
+    let px = |m: f64| m / mu.max(mv);
+    let _ = writeln!(
+        out,
+        "scenario: {}",
+        s.name.as_deref().unwrap_or("(unnamed)")
+    );
+    let _ = writeln!(
+        out,
+        "camera: {}x{} px, {:.2} mm/px along u, {:.2} mm/px along v, table at z = {:.3} m",
+        s.camera.width,
+        s.camera.height,
+        mu * 1e3,
+        mv * 1e3,
+        s.camera.table_z
+    );
+    let _ = writeln!(
+        out,
+        "robot: {}, gripper at pixel ({}, {})",
+        s.robot.model, s.robot.start[0], s.robot.start[1]
+    );
+    let _ = writeln!(out, "objects: {}", s.objects.len());
+    for o in &s.objects {
+        let sensitive = if s.is_sensitive(o) { ", sensitive" } else { "" };
+        let _ = writeln!(
+            out,
+            "  {} ({} {}{sensitive}) at {:?}",
+            o.name,
+            o.color,
+            o.shape,
+            <[f64; 4]>::from(o.bbox)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "goals: {}",
+        s.goals
+            .iter()
+            .map(|g| g.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(out, "hands: {}", s.hands.len());
+    let m = &s.safety;
+    let _ = writeln!(
+        out,
+        "safety margins: obstacle {:.3} m (≈{:.0} px), sensitive {:.3} m (≈{:.0} px), hand {:.3} m (≈{:.0} px)",
+        m.obstacle_margin,
+        px(m.obstacle_margin),
+        m.sensitive_margin,
+        px(m.sensitive_margin),
+        m.hand_margin,
+        px(m.hand_margin)
+    );
+    let _ = writeln!(out, "instruction: \"{}\"", s.instruction);
+    match subgoals(s, seed) {
+        Err(e) => {
+            let _ = writeln!(out, "sub-goals: {e}");
+        }
+        Ok(goals) => {
+            let _ = writeln!(
+                out,
+                "sub-goals: {} (grids drawn on the scene as it is now)",
+                goals.len()
+            );
+            for (k, g) in goals.iter().enumerate() {
+                let request = GridRequest {
+                    object: s.object_index(&g.object).unwrap_or(0),
+                    goal: s.goal_index(&g.goal).unwrap_or(0),
+                    gripper: s.robot.start,
+                };
+                let grid = StateGrid::build(s, request);
+                let _ = writeln!(
+                    out,
+                    "  {}. {} → {}: grid {}x{} cells of {}x{} px",
+                    k + 1,
+                    g.object,
+                    g.goal,
+                    grid.rows,
+                    grid.cols,
+                    grid.cell_size[0],
+                    grid.cell_size[1]
+                );
+                for line in grid.to_string().lines() {
+                    let _ = writeln!(out, "     {line}");
+                }
+            }
+            let _ = writeln!(
+                out,
+                "     legend: S start, T target, G goal, D drop cell, # obstacle or perimeter, H hand perimeter"
+            );
+        }
+    }
+    out
+}
