@@ -500,41 +500,37 @@ impl Arm {
     }
 }
 
-/// Why the attempts failed: reach (no limits, position only), limits (no
-/// limits, full task), singularity of the best configuration, or plain
-/// non-convergence.
+/// Why the attempts failed. Relax the joint limits and solve again from the
+/// best attempt and from home: if that fails too, the target is out of reach;
+/// if it succeeds outside the limits, a joint limit is in the way; if it
+/// succeeds inside them, the limited solver was stuck (singular or not converged).
 fn diagnose(solver: &mut Solver<'_>, best: &Attempt, attempts: usize) -> IkFailure {
     let arm = solver.arm;
-    let home = arm.home.clone();
-    let free_position = Mode {
-        limits: false,
-        position_only: true,
-    };
-    let reach = [best.q.clone(), home.clone()]
-        .iter()
-        .map(|start| solver.run(start, start, free_position))
-        .find(|a| a.converged);
-    if reach.is_none() {
-        let a = solver.run(&best.q, &best.q, free_position);
-        return IkFailure::OutOfReach {
-            position_error: a.cost,
-        };
-    }
-    let free_full = Mode {
+    let unlimited_mode = Mode {
         limits: false,
         position_only: false,
     };
-    let unlimited = [best.q.clone(), home]
-        .iter()
-        .map(|start| solver.run(start, start, free_full))
-        .find(|a| a.converged);
-    if let Some(u) = unlimited {
-        let worst = (0..arm.dof())
-            .max_by(|&i, &j| {
-                let out = |k: usize| (arm.lower[k] - u.q[k]).max(u.q[k] - arm.upper[k]);
-                out(i).total_cmp(&out(j))
-            })
-            .unwrap_or(0);
+    let mut closest: Option<Attempt> = None;
+    for start in [best.q.clone(), arm.home.clone()] {
+        let a = solver.run(&start, &start, unlimited_mode);
+        if a.converged {
+            closest = Some(a);
+            break;
+        }
+        if closest.as_ref().is_none_or(|c| a.cost < c.cost) {
+            closest = Some(a);
+        }
+    }
+    let unlimited = closest.expect("two relaxed attempts ran");
+    if !unlimited.converged {
+        let (_, ep, _, _) = solver.linearise(&unlimited.q, unlimited_mode);
+        return IkFailure::OutOfReach { position_error: ep };
+    }
+    let outside = |k: usize| (arm.lower[k] - unlimited.q[k]).max(unlimited.q[k] - arm.upper[k]);
+    let worst = (0..arm.dof())
+        .max_by(|&i, &j| outside(i).total_cmp(&outside(j)))
+        .unwrap_or(0);
+    if outside(worst) > 0.0 {
         return IkFailure::JointLimit {
             joint: arm.joint_names[worst].clone(),
         };
