@@ -1,0 +1,201 @@
+//! Lifting a grid plan to 3-D tool waypoints in the robot base frame.
+//!
+//! Every cell maps to the table plane through the scenario's `pixel_to_base`
+//! and `table_z`. One sub-goal becomes: travel at carry height from the
+//! gripper's position to the target, descend to the approach height, then to
+//! the grasp height, close, lift, travel to the cell next to the goal, the
+//! GOAL macro over the box wall (through the entry cell to the drop cell),
+//! descend into the box, open, retreat to carry height. The tool points down
+//! throughout; its yaw puts the fingers across the object's shorter side.
+//!
+//! Heights (metres above the table top, TCP = the grasp point):
+//! - grasp: half the object's height (the fingers close on its middle);
+//! - approach: grasp + `approach_clearance`;
+//! - carry: tallest thing on the table (objects, goal walls, hands) + the
+//!   held object's height + `carry_clearance`, so the held object's bottom
+//!   clears everything by at least `carry_clearance`;
+//! - release: the object's bottom `release_clearance` above the box floor.
+
+use serde::{Deserialize, Serialize};
+
+use crate::grid::Cell;
+use crate::scenario::Scenario;
+use crate::smooth::smooth_path;
+use crate::task::{Action, GridTask};
+
+/// Heights and clearances of the lifted motion, metres.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LiftSettings {
+    /// Above the grasp height where the vertical approach starts.
+    pub approach_clearance: f64,
+    /// Minimum gap between the held object's bottom and anything below it while travelling.
+    pub carry_clearance: f64,
+    /// Gap between the object's bottom and the box floor at release.
+    pub release_clearance: f64,
+}
+
+impl Default for LiftSettings {
+    fn default() -> Self {
+        Self {
+            approach_clearance: 0.10,
+            carry_clearance: 0.05,
+            release_clearance: 0.01,
+        }
+    }
+}
+
+/// What the robot is doing on the way to a waypoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Phase {
+    /// Where the gripper is when the sub-goal starts (at carry height).
+    Start,
+    /// Travelling empty at carry height.
+    Travel,
+    /// Down to the approach height over the target.
+    Approach,
+    /// Down to the grasp height; the gripper closes here.
+    Grasp,
+    /// Up to carry height with the object.
+    Lift,
+    /// Travelling with the object at carry height.
+    Carry,
+    /// The GOAL macro: over the box wall to above the drop point.
+    OverWall,
+    /// Down into the box; the gripper opens here.
+    Release,
+    /// Back up to carry height, empty.
+    Retreat,
+}
+
+/// One tool waypoint: position (base frame, metres), tool yaw (rad, tool x
+/// axis in the horizontal plane; the tool's z axis points down) and whether
+/// the gripper holds the object on arrival.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ToolWaypoint {
+    pub position: [f64; 3],
+    pub yaw: f64,
+    pub phase: Phase,
+    pub holding: bool,
+}
+
+/// The lifted motion of one sub-goal.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LiftedMotion {
+    pub waypoints: Vec<ToolWaypoint>,
+    /// Carry height above the table top, metres.
+    pub carry_height: f64,
+}
+
+/// Lifts a solved grid plan. `object` indexes the scenario's objects; `cells`
+/// is the plan's visited cells ([`crate::LearnedPlan::cells`]) and `actions`
+/// its actions.
+pub fn lift(
+    scenario: &Scenario,
+    task: &GridTask,
+    object: usize,
+    actions: &[Action],
+    cells: &[Cell],
+    settings: &LiftSettings,
+) -> LiftedMotion {
+    let grid = &task.grid;
+    let held = &scenario.objects[object];
+    let table = scenario.camera.table_z;
+    let carry_height = tallest(scenario, object) + held.height + settings.carry_clearance;
+    let grasp = held.height / 2.0;
+    let yaw = grasp_yaw(scenario, held.bbox.w, held.bbox.l);
+    let grasp_at = actions
+        .iter()
+        .position(|&a| a == Action::Grasp)
+        .unwrap_or(0);
+    let goal_at = actions
+        .iter()
+        .position(|&a| a == Action::Goal)
+        .unwrap_or(actions.len());
+    let to_target = &cells[..=grasp_at];
+    let to_goal = &cells[grasp_at..=goal_at];
+    let at = |p: [f64; 2], h: f64| {
+        let [x, y] = scenario.pixel_to_base(p);
+        [x, y, table + h]
+    };
+    let point = |p: [f64; 2], h: f64, phase: Phase, holding: bool| ToolWaypoint {
+        position: at(p, h),
+        yaw,
+        phase,
+        holding,
+    };
+    let mut out = Vec::new();
+    let travel = |out: &mut Vec<ToolWaypoint>, leg: &[Cell], phase: Phase, holding: bool| {
+        out.extend(
+            smooth_path(grid, leg)
+                .into_iter()
+                .skip(1)
+                .map(|p| point(p, carry_height, phase, holding)),
+        );
+    };
+    let start_px = grid.centre(cells[0]);
+    out.push(point(start_px, carry_height, Phase::Start, false));
+    travel(&mut out, to_target, Phase::Travel, false);
+    let target_px = grid.centre(grid.target);
+    out.push(point(
+        target_px,
+        grasp + settings.approach_clearance,
+        Phase::Approach,
+        false,
+    ));
+    out.push(point(target_px, grasp, Phase::Grasp, false));
+    out.push(point(target_px, carry_height, Phase::Lift, true));
+    travel(&mut out, to_goal, Phase::Carry, true);
+    let near = cells[goal_at];
+    let drop = grid.drop.unwrap_or(near);
+    if let Some(entry) = task.goal_entry(near).filter(|&e| e != drop) {
+        out.push(point(
+            grid.centre(entry),
+            carry_height,
+            Phase::OverWall,
+            true,
+        ));
+    }
+    let drop_px = grid.centre(drop);
+    out.push(point(drop_px, carry_height, Phase::OverWall, true));
+    out.push(point(
+        drop_px,
+        grasp + settings.release_clearance,
+        Phase::Release,
+        true,
+    ));
+    out.push(point(drop_px, carry_height, Phase::Retreat, false));
+    LiftedMotion {
+        waypoints: out,
+        carry_height,
+    }
+}
+
+/// Height above the table of the tallest object (other than the held one),
+/// goal wall or hand.
+fn tallest(s: &Scenario, held: usize) -> f64 {
+    let objects = s
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != held)
+        .map(|(_, o)| o.height);
+    objects
+        .chain(s.goals.iter().map(|g| g.height))
+        .chain(s.hands.iter().map(|h| h.height))
+        .fold(0.0, f64::max)
+}
+
+/// Tool yaw that lays the tool's x axis along the box's longer side, so the
+/// fingers (closing along the tool's y axis) span its shorter side. Pixel
+/// axes are mapped through `pixel_to_base`.
+fn grasp_yaw(s: &Scenario, w: f64, l: f64) -> f64 {
+    let m = &s.camera.pixel_to_base;
+    let (dx, dy) = if w >= l {
+        (m[0][0], m[1][0])
+    } else {
+        (m[0][1], m[1][1])
+    };
+    dy.atan2(dx)
+}
