@@ -1,27 +1,61 @@
-//! The discrete planning pipeline: instruction → sub-goals → per sub-goal a
-//! state grid → Contextual Q-learning → a verified grid plan, with the scene
+//! The planning pipeline, a straight run of named, timed stages: instruction
+//! → sub-goals → per sub-goal a state grid → Contextual Q-learning → a
+//! verified grid plan → tool waypoints, with the scene
 //! updated after each sub-goal as the camera would see it (the object in its
 //! goal, the gripper where it released). A sub-goal that cannot be solved is
 //! reported by name with the reason while the others still plan.
 
 use std::time::{Duration, Instant};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
 use crate::grid::{CellCode, GridRequest, StateGrid};
 use crate::instruction::{SubGoal, subgoals};
+use crate::lift::{LiftSettings, LiftedMotion, lift};
 use crate::oracle;
 use crate::scenario::Scenario;
 use crate::task::{Action, GridTask};
 
-/// The discrete plan of a whole instruction.
+/// Where the pipeline stops. Later stages need the earlier ones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Sub-goals, state grids and CQL plans.
+    Grid,
+    /// Plus tool waypoints in the robot base frame.
+    Waypoints,
+}
+
+/// How to run the pipeline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanOptions {
+    /// Seed of every random choice; same scenario + seed ⇒ same plan.
+    pub seed: u64,
+    /// The last stage to run.
+    pub until: Stage,
+    pub lift: LiftSettings,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            until: Stage::Waypoints,
+            lift: LiftSettings::default(),
+        }
+    }
+}
+
+/// The plan of a whole instruction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GridPlan {
+pub struct Plan {
     /// Scenario name (or file name when it has none).
     pub scenario: String,
     pub seed: u64,
+    /// The last stage that ran.
+    pub until: Stage,
     /// Planned sub-goals, in execution order.
     pub subgoals: Vec<SubgoalPlan>,
     /// Sub-goals that could not be planned, with the reason.
@@ -46,6 +80,9 @@ pub struct SubgoalPlan {
     pub optimal_length: usize,
     /// Grid geometry: size `[n, m]`, cell size `[w, l]` px, origin `[u, v]` px.
     pub grid: GridInfo,
+    /// Tool waypoints (stage `waypoints` and later).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub waypoints: Option<LiftedMotion>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -62,57 +99,60 @@ pub struct UnsolvedSubgoal {
     pub reason: String,
 }
 
-/// Time spent in each named stage.
+/// Time spent in each named stage, summed over sub-goals.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StageTimings {
     pub subgoals: Duration,
     pub grid: Duration,
     pub cql: Duration,
+    pub lift: Duration,
 }
 
-/// Plans every sub-goal of `scenario`'s instruction. `Err` only when the
-/// instruction itself is not executable or no sub-goal could be planned.
-pub fn plan_grid(scenario: &Scenario, seed: u64) -> Result<GridPlan, PlanError> {
-    let mut timings = StageTimings::default();
+/// Runs `f` and adds its wall time to `slot`.
+fn timed<T>(slot: &mut Duration, f: impl FnOnce() -> T) -> T {
     let t = Instant::now();
-    let goals = subgoals(scenario, seed)?;
-    timings.subgoals = t.elapsed();
-    let learner = ContextualQLearner::new(scenario.learner.clone());
+    let value = f();
+    *slot += t.elapsed();
+    value
+}
+
+/// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
+/// `options.until`. `Err` only when the instruction itself is not executable
+/// or no sub-goal could be planned; otherwise unsolvable sub-goals are listed
+/// in [`Plan::unsolved`].
+pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
+    let mut timings = StageTimings::default();
+    let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
     let mut scene = scenario.clone();
     let mut gripper = scenario.robot.start;
-    let mut plan = GridPlan {
+    let mut plan = Plan {
         scenario: scenario.name.clone().unwrap_or_default(),
-        seed,
+        seed: options.seed,
+        until: options.until,
         subgoals: Vec::new(),
         unsolved: Vec::new(),
         timings: StageTimings::default(),
     };
     for (k, goal) in goals.iter().enumerate() {
         let request = request(&scene, goal, gripper);
-        let t = Instant::now();
-        let task = GridTask::new(StateGrid::build(&scene, request));
-        timings.grid += t.elapsed();
-        let t = Instant::now();
-        let learned = learner.learn(&task, subgoal_seed(seed, k));
-        timings.cql += t.elapsed();
-        match oracle::optimal_length(&task) {
-            Some(optimal) if learned.solved => {
-                let done = subgoal_plan(goal, &task, &learned, optimal);
+        match plan_subgoal(
+            &scene,
+            goal,
+            request,
+            subgoal_seed(options.seed, k),
+            options,
+            &mut timings,
+        ) {
+            Ok(done) => {
                 gripper = *done.path_px.last().unwrap_or(&gripper);
                 let object = &mut scene.objects[request.object];
                 object.bbox = object.bbox.centred_at(gripper);
                 plan.subgoals.push(done);
             }
-            optimal => plan.unsolved.push(UnsolvedSubgoal {
+            Err(reason) => plan.unsolved.push(UnsolvedSubgoal {
                 object: goal.object.clone(),
                 goal: goal.goal.clone(),
-                reason: match optimal {
-                    None => why_unsolvable(&scene, request),
-                    Some(_) => format!(
-                        "the learner found no plan within {} training steps",
-                        learned.training_steps
-                    ),
-                },
+                reason,
             }),
         }
     }
@@ -126,6 +166,44 @@ pub fn plan_grid(scenario: &Scenario, seed: u64) -> Result<GridPlan, PlanError> 
         return Err(PlanError::Unsolvable { reasons });
     }
     Ok(plan)
+}
+
+/// One sub-goal through the stages: grid → CQL → lift. `Err` is the reason
+/// it cannot be planned.
+fn plan_subgoal(
+    scene: &Scenario,
+    goal: &SubGoal,
+    request: GridRequest,
+    seed: u64,
+    options: &PlanOptions,
+    timings: &mut StageTimings,
+) -> Result<SubgoalPlan, String> {
+    let task = timed(&mut timings.grid, || {
+        GridTask::new(StateGrid::build(scene, request))
+    });
+    let learner = ContextualQLearner::new(scene.learner.clone());
+    let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
+    let optimal = oracle::optimal_length(&task).ok_or_else(|| why_unsolvable(scene, request))?;
+    if !learned.solved {
+        return Err(format!(
+            "the learner found no plan within {} training steps",
+            learned.training_steps
+        ));
+    }
+    let mut done = subgoal_plan(goal, &task, &learned, optimal);
+    if options.until >= Stage::Waypoints {
+        done.waypoints = Some(timed(&mut timings.lift, || {
+            lift(
+                scene,
+                &task,
+                request.object,
+                &learned.actions,
+                &learned.cells,
+                &options.lift,
+            )
+        }));
+    }
+    Ok(done)
 }
 
 fn request(scene: &Scenario, goal: &SubGoal, gripper: [f64; 2]) -> GridRequest {
@@ -169,6 +247,7 @@ fn subgoal_plan(
             cell_px: grid.cell_size,
             origin_px: grid.origin,
         },
+        waypoints: None,
     }
 }
 

@@ -41,6 +41,27 @@ pub struct PlanArgs {
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Stop the pipeline after this stage and print what exists so far.
+    #[arg(long, value_enum, default_value_t = Until::Waypoints)]
+    pub until: Until,
+}
+
+/// The pipeline stages `--until` accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Until {
+    /// Sub-goals, state grids and CQL plans.
+    Grid,
+    /// Plus tool waypoints in the robot base frame.
+    Waypoints,
+}
+
+impl From<Until> for afford_planner::Stage {
+    fn from(until: Until) -> Self {
+        match until {
+            Until::Grid => Self::Grid,
+            Until::Waypoints => Self::Waypoints,
+        }
+    }
 }
 
 #[derive(Debug, clap::Args)]

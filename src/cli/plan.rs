@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use afford_planner::scenario::{self, Scenario};
-use afford_planner::{PlanError, plan_grid};
+use afford_planner::{PlanError, PlanOptions, plan};
 
 use super::output::{emit, render};
 use super::{ExitKind, Failure, PlanArgs};
@@ -13,7 +13,12 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args));
     }
-    let plan = plan_grid(&scenario, args.seed).map_err(|e| match e {
+    let options = PlanOptions {
+        seed: args.seed,
+        until: args.until.into(),
+        ..PlanOptions::default()
+    };
+    let plan = plan(&scenario, &options).map_err(|e| match e {
         PlanError::Scenario(_) => Failure::new(ExitKind::BadInput, e.to_string()),
         _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
     })?;
