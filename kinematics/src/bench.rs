@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use crate::error::KinematicsError;
 use crate::ik::{IkSettings, IkTarget, random_configuration};
-use crate::kchain::KSolver;
+use crate::kchain::KBaseline;
 use crate::math::{Pose, Real, pose_distance};
 use crate::model::{Arm, RobotModel};
 
@@ -80,7 +80,7 @@ pub fn bench_arm(robot: &str, arm: &Arm, poses: usize, seed: u64) -> ArmBench {
             ok += 1;
         }
     }
-    let k = KSolver::new(
+    let k = KBaseline::new(
         arm,
         BENCH_POSITION_TOLERANCE * 0.5,
         BENCH_ROTATION_TOLERANCE * 0.5,

@@ -440,12 +440,12 @@ impl Arm {
                 reason: "target holds a non-finite number",
             });
         }
-        if let Some(s) = seed {
-            if s.len() != self.dof() || s.iter().any(|v| !v.is_finite()) {
-                return Err(IkFailure::InvalidRequest {
-                    reason: "seed must hold one finite value per arm joint",
-                });
-            }
+        if let Some(s) = seed
+            && (s.len() != self.dof() || s.iter().any(|v| !v.is_finite()))
+        {
+            return Err(IkFailure::InvalidRequest {
+                reason: "seed must hold one finite value per arm joint",
+            });
         }
         let distance = (target.position() - self.reach_centre()).norm();
         if distance > self.reach {

@@ -41,15 +41,16 @@ pub(crate) fn serial_chain(arm: &Arm) -> k::SerialChain<Real> {
     k::SerialChain::new_unchecked(k::Chain::from_nodes(nodes))
 }
 
-/// k's Jacobian solver configured like the stack notes' best case: 100
-/// iterations per try and up to `restarts` random restarts.
-pub(crate) struct KSolver {
+/// k's Jacobian solver, the baseline the IK bench compares against: 100
+/// iterations per try (multiplier 0.5) and up to `restarts` random restarts,
+/// as in the stack notes' best case. Holds k's chain, so use one per thread.
+pub struct KBaseline {
     chain: k::SerialChain<Real>,
     solver: k::JacobianIkSolver<Real>,
     restarts: usize,
 }
 
-impl KSolver {
+impl KBaseline {
     pub fn new(
         arm: &Arm,
         position_tolerance: Real,
@@ -103,7 +104,7 @@ mod tests {
         for name in crate::builtin::NAMES {
             let m = RobotModel::builtin(name).unwrap();
             for arm in m.arms() {
-                let k = KSolver::new(arm, 1e-4, 1e-3, 0);
+                let k = KBaseline::new(arm, 1e-4, 1e-3, 0);
                 let q: Vec<Real> = (0..arm.dof())
                     .map(|i| 0.2 * (i as Real + 0.5).cos())
                     .collect();

@@ -33,6 +33,7 @@ pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
 pub use description::{DESCRIPTION_FORMAT, Gripper};
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
+pub use kchain::KBaseline;
 pub use math::*;
 pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};
 pub use path::{JointPath, PathFailure, PathSettings, max_joint_step};

@@ -82,6 +82,7 @@ fn cob_config(m: &RobotModel, side: &str, torso: [f64; 2], arm: [f64; 7]) -> Vec
 
 /// Facts sheet care_o_bot4 section 9: frames in base_link.
 #[test]
+#[allow(clippy::approx_constant)] // CR's named poses, numbers exactly as written there
 fn care_o_bot4_frames_match_reference_poses() {
     let m = RobotModel::builtin("care_o_bot4").unwrap();
     let side_pose = [0.9599, 1.6581, -1.0472, -1.6581, -1.0472, -0.6981, 1.07];

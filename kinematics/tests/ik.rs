@@ -169,7 +169,7 @@ fn failures_are_typed_and_never_a_configuration() {
     // Inside the crude bound (1.456 m) but beyond shoulder + 0.82 + 0.276.
     let beyond = IkTarget::Pose(afford_kinematics::pose_from_xyz_rpy(
         [1.25, 0.0, 0.36],
-        [0.0, 1.5707963, 0.0],
+        [0.0, std::f64::consts::FRAC_PI_2, 0.0],
     ));
     assert!(matches!(
         arm.solve_ik(&beyond, None, &s, &mut rng),
