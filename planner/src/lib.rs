@@ -13,11 +13,13 @@
 //! | affordances, initial Q | [`affordance`] | eq. (7)–(9) |
 //! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`oracle`] | — (BFS, for measurement) |
+//! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
 //! | pipeline | [`plan`] | Fig. 2 |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
-//! let plan = afford_planner::plan::plan_grid(&scenario, 1).unwrap();
+//! let options = afford_planner::PlanOptions::default();
+//! let plan = afford_planner::plan(&scenario, &options).unwrap();
 //! assert!(plan.unsolved.is_empty());
 //! assert_eq!(plan.subgoals[0].actions.last().unwrap().name(), "DROP");
 //! ```
@@ -28,14 +30,16 @@ pub mod cql;
 pub mod error;
 pub mod grid;
 pub mod instruction;
+pub mod lift;
 pub mod oracle;
 pub mod plan;
 pub mod scenario;
+pub mod smooth;
 pub mod task;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};
 pub use grid::{CellCode, StateGrid};
-pub use plan::{GridPlan, plan_grid};
+pub use plan::{Plan, PlanOptions, Stage, plan};
 pub use scenario::Scenario;
 pub use task::{Action, GridTask};
