@@ -1,2 +1,3 @@
 //! afford: the facade crate. Re-exports the library crates.
+pub use afford_kinematics as kinematics;
 pub use afford_planner as planner;

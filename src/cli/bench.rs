@@ -5,7 +5,7 @@ use std::io::IsTerminal;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{BenchCqlArgs, ExitKind, Failure};
+use super::{BenchCqlArgs, BenchIkArgs, ExitKind, Failure};
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
     if args.scenarios == 0 {
@@ -29,6 +29,35 @@ pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
         );
     } else {
         print!("{}", report.table());
+    }
+    Ok(())
+}
+
+pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
+    if args.poses == 0 {
+        return Err(Failure::new(ExitKind::BadInput, "--poses must be at least 1"));
+    }
+    let bar = progress_bar(1, "runs");
+    bar.set_message("solving");
+    let report = afford_kinematics::ik_benchmark(args.poses, args.seed)
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    bar.finish_and_clear();
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        return Ok(());
+    }
+    println!("{:<12} {:<6} {:>7} {:>9} {:>11} {:>11} {:>13}", "robot", "arm", "poses", "success", "median µs", "k success", "k median µs");
+    for a in &report.arms {
+        println!(
+            "{:<12} {:<6} {:>7} {:>8.2}% {:>11.1} {:>10.2}% {:>13.1}",
+            a.robot,
+            a.arm,
+            a.poses,
+            a.success_rate * 100.0,
+            a.median_us,
+            a.k_success_rate * 100.0,
+            a.k_median_us
+        );
     }
     Ok(())
 }

@@ -3,6 +3,7 @@
 mod bench;
 mod output;
 mod plan;
+mod robots;
 mod validate;
 
 use std::path::PathBuf;
@@ -23,6 +24,8 @@ pub enum Command {
     Plan(PlanArgs),
     /// Parse a scenario and explain it (objects, margins, sub-goals, grids) without planning.
     Validate(ValidateArgs),
+    /// List the built-in robots with their arms, degrees of freedom and reach.
+    Robots(RobotsArgs),
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -65,6 +68,13 @@ impl From<Until> for afford_planner::Stage {
 }
 
 #[derive(Debug, clap::Args)]
+pub struct RobotsArgs {
+    /// Print the list as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Args)]
 pub struct ValidateArgs {
     /// Scenario file (.yaml, .yml or .json); omitted: the built-in default scenario.
     pub scenario: Option<PathBuf>,
@@ -83,6 +93,21 @@ pub enum OutputFormat {
 pub enum BenchCommand {
     /// CQL against plain Q-learning on seeded scenes, measured against the BFS oracle (the paper's Table 1).
     Cql(BenchCqlArgs),
+    /// Inverse kinematics of every built-in arm on random reachable poses, afford's solver beside k's.
+    Ik(BenchIkArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchIkArgs {
+    /// Random reachable poses per arm.
+    #[arg(long, default_value_t = 10_000)]
+    pub poses: usize,
+    /// Seed of the random configurations.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -127,6 +152,8 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Plan(args) => plan::run(&args),
         Command::Validate(args) => validate::run(&args),
+        Command::Robots(args) => robots::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
+        Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
     }
 }
