@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 /// Recommended placements (robots/README.md): table height in the base frame
 /// and the table region (x range, y range) the camera sees.
 const IIWA_TABLE_Z: f64 = -0.40;
-const IIWA_REGION: ([f64; 2], [f64; 2]) = ([0.10, 0.55], [-0.30, 0.30]);
+const IIWA_REGION: ([f64; 2], [f64; 2]) = ([0.36, 0.66], [-0.20, 0.20]);
 const COB_TABLE_Z: f64 = 0.75;
 const COB_REGION: ([f64; 2], [f64; 2]) = ([0.40, 1.00], [-0.40, 0.40]);
 const GRASP_HEIGHT: f64 = 0.05;
@@ -66,12 +66,14 @@ fn grid(region: ([f64; 2], [f64; 2]), step: f64) -> Vec<(f64, f64)> {
 }
 
 #[test]
-fn iiwa_reaches_its_whole_table_region_top_down() {
+fn iiwa_reaches_its_camera_region_top_down_at_grasp_approach_and_carry_height() {
     let m = RobotModel::builtin("kuka_iiwa14").unwrap();
     let arm = &m.arms()[0];
     let mut rng = ChaCha8Rng::seed_from_u64(2);
-    for (x, y) in grid(IIWA_REGION, 0.05) {
-        let position = Vec3::new(x, y, IIWA_TABLE_Z + GRASP_HEIGHT);
+    // Grasp, approach and carry heights of the paper.
+    for (k, (x, y)) in grid(IIWA_REGION, 0.05).into_iter().enumerate() {
+        let height = [GRASP_HEIGHT, 0.20, 0.25][k % 3];
+        let position = Vec3::new(x, y, IIWA_TABLE_Z + height);
         for yaw in [None, Some(0.0), Some(1.2)] {
             let t = IkTarget::TopDown { position, yaw };
             let s = arm

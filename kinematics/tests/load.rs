@@ -57,7 +57,8 @@ fn builtin_models_carry_planning_data() {
     assert!(matches!(l7.colliders[0].shape, Shape::Sphere { radius } if radius == 0.053));
     // Home is within limits and the TCP points down.
     let tcp = m.arms()[0].fk(&m.arms()[0].home);
-    assert!((tcp.rotation * Vec3::z() + Vec3::z()).norm() < 1e-6);
+    assert!((tcp.rotation * Vec3::z() + Vec3::z()).norm() < 1e-4);
+    assert!((tcp.translation.vector - Vec3::new(0.51, 0.0, -0.15)).norm() < 1e-4);
 
     let c = RobotModel::builtin("care_o_bot4").unwrap();
     let right = c.arm("right").unwrap();
