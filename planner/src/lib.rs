@@ -36,6 +36,7 @@ pub mod plan;
 pub mod scenario;
 pub mod smooth;
 pub mod task;
+pub mod timing;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};

@@ -1,0 +1,258 @@
+//! The discretised path and its constraint rows.
+//!
+//! The path parameter is cut into `N` segments `[s_i, s_{i+1}]`, every spline
+//! knot being a grid point, so each segment lies inside one cubic piece. On a
+//! segment `s̈ = a_i` is constant, hence `b(s) = ṡ²` is linear in `s`:
+//! `b(θ) = (1−θ) b_i + θ b_{i+1}`, `θ = (s − s_i)/Δs_i`, `a_i = (b_{i+1} − b_i)/(2Δs_i)`.
+//!
+//! Joint `j` then has, for every `θ ∈ [0, 1]`,
+//!
+//! ```text
+//! velocity²    q'_j(θ)² b(θ)                                  ≤ v_j²
+//! acceleration q''_j(θ) b(θ) + q'_j(θ) a_i
+//!            = b_i [q''_j(1−θ) − q'_j/(2Δs_i)] + b_{i+1} [q''_j θ + q'_j/(2Δs_i)] ∈ [−A_j, A_j]
+//! ```
+//!
+//! Both are polynomials in `θ` (degree 5 and 2) whose coefficients are linear
+//! in `(b_i, b_{i+1})`. A polynomial lies between the extremes of its
+//! Bernstein coefficients, so bounding each Bernstein coefficient bounds the
+//! whole segment, not just its end points: `α b_i + β b_{i+1} ≤ 1` rows,
+//! 6 + 6 per joint and segment (+ 6 for a tool-speed cap, same form with
+//! `‖p'(θ)‖²`). In the `(b_i, b_{i+1})` plane only the rows on the upper-right
+//! convex frontier of `{0} ∪ {(α, β)}` can be active (`b ≥ 0`); the others
+//! are dropped, leaving typically 1–4 rows per segment.
+
+use super::spline::CubicSpline;
+
+/// The discretised path: grid points and the spline piece of each segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathGrid {
+    /// Grid points `s_0 = 0 < s_1 < … < s_N = L`.
+    pub s: Vec<f64>,
+    /// Spline piece holding segment `i`.
+    pub piece: Vec<usize>,
+}
+
+impl PathGrid {
+    /// About `segments` segments, spread over the pieces by length, at least
+    /// one per piece, uniform inside a piece.
+    pub fn new(spline: &CubicSpline, segments: usize) -> Self {
+        let knots = spline.knots();
+        let length = spline.length();
+        let pieces = spline.pieces();
+        let share: Vec<f64> = knots
+            .windows(2)
+            .map(|w| segments as f64 * (w[1] - w[0]) / length)
+            .collect();
+        let mut count: Vec<usize> = share.iter().map(|x| (x.floor() as usize).max(1)).collect();
+        let used: usize = count.iter().sum();
+        if used < segments {
+            let mut order: Vec<usize> = (0..pieces).collect();
+            order.sort_by(|&a, &b| {
+                let (fa, fb) = (share[a] - share[a].floor(), share[b] - share[b].floor());
+                fb.total_cmp(&fa).then(a.cmp(&b))
+            });
+            for k in order.into_iter().cycle().take(segments - used) {
+                count[k] += 1;
+            }
+        }
+        let total: usize = count.iter().sum();
+        let mut s = Vec::with_capacity(total + 1);
+        let mut piece = Vec::with_capacity(total);
+        for (k, &n) in count.iter().enumerate() {
+            let (s0, s1) = (knots[k], knots[k + 1]);
+            for m in 0..n {
+                s.push(s0 + (s1 - s0) * m as f64 / n as f64);
+                piece.push(k);
+            }
+        }
+        s.push(length);
+        Self { s, piece }
+    }
+
+    /// Number of segments `N`.
+    pub fn segments(&self) -> usize {
+        self.piece.len()
+    }
+
+    /// `Δs_i`.
+    pub fn step(&self, i: usize) -> f64 {
+        self.s[i + 1] - self.s[i]
+    }
+}
+
+/// Monomial coefficients in `θ` of `q'_j` (degree 2) and `q''_j` (degree 1)
+/// on segment `i`.
+fn derivatives_on_segment(
+    spline: &CubicSpline,
+    grid: &PathGrid,
+    i: usize,
+    j: usize,
+) -> ([f64; 3], [f64; 2]) {
+    let piece = grid.piece[i];
+    let u0 = grid.s[i] - spline.knots()[piece];
+    let ds = grid.step(i);
+    let [_, c1, c2, c3] = spline.piece(piece, j);
+    let n0 = 2.0 * c2 + 6.0 * c3 * u0;
+    (
+        [
+            c1 + 2.0 * c2 * u0 + 3.0 * c3 * u0 * u0,
+            n0 * ds,
+            3.0 * c3 * ds * ds,
+        ],
+        [n0, 6.0 * c3 * ds],
+    )
+}
+
+/// Bernstein coefficients of a polynomial given by monomial coefficients
+/// (`m.len() − 1` is the degree): `β_k = Σ_{i≤k} C(k,i)/C(n,i) m_i`.
+fn bernstein<const N: usize>(m: &[f64; N]) -> [f64; N] {
+    let n = N - 1;
+    let mut out = [0.0; N];
+    for (k, out_k) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (i, m_i) in m.iter().enumerate().take(k + 1) {
+            acc += binomial(k, i) / binomial(n, i) * m_i;
+        }
+        *out_k = acc;
+    }
+    out
+}
+
+fn binomial(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// Rows `α b_i + β b_{i+1} ≤ 1` of segment `i`, appended to `rows`.
+/// `vel_sq[j] = v_j²`, `acc[j] = A_j` (already scaled and margined);
+/// `tool` is the tool spline (same knots) and the squared cap on this segment.
+pub fn segment_rows(
+    spline: &CubicSpline,
+    grid: &PathGrid,
+    i: usize,
+    vel_sq: &[f64],
+    acc: &[f64],
+    tool: Option<(&CubicSpline, f64)>,
+    rows: &mut Vec<(f64, f64)>,
+) {
+    let ds = grid.step(i);
+    for j in 0..spline.dim() {
+        let (d1, d2) = derivatives_on_segment(spline, grid, i, j);
+        // Acceleration: u(θ) multiplies b_i, w(θ) multiplies b_{i+1}.
+        let half = 0.5 / ds;
+        let u = [
+            d2[0] - half * d1[0],
+            d2[1] - d2[0] - half * d1[1],
+            -d2[1] - half * d1[2],
+        ];
+        let w = [half * d1[0], d2[0] + half * d1[1], d2[1] + half * d1[2]];
+        let (bu, bw) = (bernstein(&u), bernstein(&w));
+        for k in 0..3 {
+            let (alpha, beta) = (bu[k] / acc[j], bw[k] / acc[j]);
+            rows.push((alpha, beta));
+            rows.push((-alpha, -beta));
+        }
+        push_speed_rows(&square(&d1), vel_sq[j], rows);
+    }
+    if let Some((tool, cap_sq)) = tool {
+        let mut norm_sq = [0.0; 5];
+        for d in 0..tool.dim() {
+            let (d1, _) = derivatives_on_segment(tool, grid, i, d);
+            for (acc, v) in norm_sq.iter_mut().zip(square(&d1)) {
+                *acc += v;
+            }
+        }
+        push_speed_rows(&norm_sq, cap_sq, rows);
+    }
+}
+
+fn square(p: &[f64; 3]) -> [f64; 5] {
+    [
+        p[0] * p[0],
+        2.0 * p[0] * p[1],
+        p[1] * p[1] + 2.0 * p[0] * p[2],
+        2.0 * p[1] * p[2],
+        p[2] * p[2],
+    ]
+}
+
+/// Rows of `g(θ) b(θ) ≤ limit_sq` for a quartic `g ≥ 0`.
+fn push_speed_rows(g: &[f64; 5], limit_sq: f64, rows: &mut Vec<(f64, f64)>) {
+    // g(θ)(1 − θ) and g(θ) θ as degree-5 monomials.
+    let mut f = [0.0; 6];
+    let mut h = [0.0; 6];
+    for k in 0..5 {
+        f[k] += g[k];
+        f[k + 1] -= g[k];
+        h[k + 1] += g[k];
+    }
+    let (bf, bh) = (bernstein(&f), bernstein(&h));
+    for k in 0..6 {
+        rows.push((bf[k] / limit_sq, bh[k] / limit_sq));
+    }
+}
+
+/// Keeps only the rows that can be active for `b ≥ 0`: the vertices of the
+/// upper-right frontier of `conv({0} ∪ rows)`. Order: decreasing `β`.
+pub fn prune_rows(rows: &mut Vec<(f64, f64)>, scratch: &mut Vec<(f64, f64)>) {
+    rows.retain(|&(a, b)| a > 0.0 || b > 0.0);
+    if rows.len() <= 1 {
+        return;
+    }
+    rows.push((0.0, 0.0));
+    rows.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    // Upper hull, left to right (Andrew's monotone chain).
+    scratch.clear();
+    for &p in rows.iter() {
+        while scratch.len() >= 2 {
+            let (o, a) = (scratch[scratch.len() - 2], scratch[scratch.len() - 1]);
+            let cross = (a.0 - o.0) * (p.1 - o.1) - (a.1 - o.1) * (p.0 - o.0);
+            if cross >= 0.0 {
+                scratch.pop();
+            } else {
+                break;
+            }
+        }
+        scratch.push(p);
+    }
+    // From the highest vertex (rightmost on ties) to the end.
+    let mut top = 0;
+    for (k, p) in scratch.iter().enumerate() {
+        if p.1 >= scratch[top].1 {
+            top = k;
+        }
+    }
+    rows.clear();
+    rows.extend(
+        scratch[top..]
+            .iter()
+            .filter(|p| p.0 > 0.0 || p.1 > 0.0)
+            .copied(),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bernstein_of_quadratic() {
+        // 1 + 2θ + 3θ² → B = [1, 2, 6].
+        assert_eq!(bernstein(&[1.0, 2.0, 3.0]), [1.0, 2.0, 6.0]);
+    }
+
+    #[test]
+    fn pruning_keeps_the_binding_rows() {
+        let mut rows = vec![
+            (1.0, 0.0),
+            (0.6, 0.6),
+            (0.2, 0.2),
+            (0.0, 1.0),
+            (-1.0, -1.0),
+            (0.9, 0.05),
+        ];
+        let mut scratch = Vec::new();
+        prune_rows(&mut rows, &mut scratch);
+        assert_eq!(rows, vec![(0.0, 1.0), (0.6, 0.6), (1.0, 0.0)]);
+    }
+}

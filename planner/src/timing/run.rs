@@ -1,0 +1,539 @@
+//! The timing stage as one pure function: inputs, settings, errors, status.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::grid::{self, PathGrid};
+use super::sample::{self, JointTrajectory, LimitViolation, SpeedProfile};
+use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
+use super::spline::{CubicSpline, chord_knots};
+use super::topp::{self, ProgramSettings, SegmentRows, SolverOutcome};
+
+/// Per-joint limits of one arm.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointLimits {
+    /// `v_j`, rad/s (> 0).
+    pub velocity: Vec<f64>,
+    /// `A_j`, rad/s² (> 0).
+    pub acceleration: Vec<f64>,
+}
+
+/// Where the tool goes and where the hands are, for the separation rule.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Proximity {
+    /// Tool-centre position at each joint waypoint (forward kinematics of
+    /// the waypoint), robot base frame, metres.
+    pub tool_positions: Vec<[f64; 3]>,
+    /// Hands seen by the camera.
+    pub hands: Vec<Hand>,
+    /// The speed-and-separation rule.
+    #[serde(default)]
+    pub rule: SeparationSettings,
+}
+
+/// Settings of the timing stage. Every default is written here once.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TimingSettings {
+    /// Number of path segments `N` (grid points `N + 1`), 200. At least one
+    /// segment per spline piece is used, so more waypoints than this give more.
+    pub path_points: usize,
+    /// Controller sampling rate, Hz, 100.
+    pub rate_hz: f64,
+    /// Global speed scale `k ∈ (0, 1]`, 1: velocity limits × k, acceleration × k².
+    pub speed_scale: f64,
+    /// `w ≥ 0` of the smoothing term `w Σ (a_{i+1} − a_i)²`, 0 (pure minimum time).
+    pub smoothing_weight: f64,
+    /// Relative margin taken off every limit inside the program, 1e-6.
+    pub limit_margin: f64,
+    /// Relative tolerance of the sample check, 1e-6.
+    pub tolerance: f64,
+    /// Clarabel's iteration limit, 100.
+    pub max_iterations: u32,
+    /// Clarabel's duality-gap tolerance (absolute and relative), 1e-7.
+    pub solver_tolerance: f64,
+}
+
+impl Default for TimingSettings {
+    fn default() -> Self {
+        Self {
+            path_points: 200,
+            rate_hz: 100.0,
+            speed_scale: 1.0,
+            smoothing_weight: 0.0,
+            limit_margin: 1e-6,
+            tolerance: 1e-6,
+            max_iterations: 100,
+            solver_tolerance: 1e-7,
+        }
+    }
+}
+
+impl TimingSettings {
+    /// Checks every field is finite and in range.
+    pub fn validate(&self) -> Result<(), TimingError> {
+        let checks: [(&'static str, f64, bool, &'static str); 6] = [
+            ("rate_hz", self.rate_hz, self.rate_hz > 0.0, "> 0"),
+            (
+                "speed_scale",
+                self.speed_scale,
+                self.speed_scale > 0.0 && self.speed_scale <= 1.0,
+                "in (0, 1]",
+            ),
+            (
+                "smoothing_weight",
+                self.smoothing_weight,
+                self.smoothing_weight >= 0.0,
+                "≥ 0",
+            ),
+            (
+                "limit_margin",
+                self.limit_margin,
+                (0.0..0.5).contains(&self.limit_margin),
+                "in [0, 0.5)",
+            ),
+            ("tolerance", self.tolerance, self.tolerance >= 0.0, "≥ 0"),
+            (
+                "solver_tolerance",
+                self.solver_tolerance,
+                self.solver_tolerance > 0.0 && self.solver_tolerance < 1.0,
+                "in (0, 1)",
+            ),
+        ];
+        for (field, value, ok, expected) in checks {
+            if !(value.is_finite() && ok) {
+                return Err(TimingError::Setting {
+                    field,
+                    value,
+                    expected,
+                });
+            }
+        }
+        if self.path_points < 2 {
+            return Err(TimingError::Setting {
+                field: "path_points",
+                value: self.path_points as f64,
+                expected: "≥ 2",
+            });
+        }
+        if self.max_iterations == 0 {
+            return Err(TimingError::Setting {
+                field: "max_iterations",
+                value: 0.0,
+                expected: "≥ 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Bad input to the timing stage.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TimingError {
+    #[error("a joint path needs at least one waypoint")]
+    NoWaypoints,
+    #[error("waypoint {index} has {len} joints, expected {expected}")]
+    WaypointLength {
+        index: usize,
+        len: usize,
+        expected: usize,
+    },
+    #[error("{what} has {len} entries, expected {expected}")]
+    SizeMismatch {
+        what: &'static str,
+        len: usize,
+        expected: usize,
+    },
+    #[error("{what}[{index}] is not finite")]
+    NonFinite { what: &'static str, index: usize },
+    #[error("{what} limit of joint {joint} is {value}, expected finite and > 0")]
+    BadLimit {
+        what: &'static str,
+        joint: usize,
+        value: f64,
+    },
+    #[error("setting {field} = {value}, expected {expected}")]
+    Setting {
+        field: &'static str,
+        value: f64,
+        expected: &'static str,
+    },
+    #[error(
+        "the path passes {distance_m:.3} m from a hand at s = {s:.4}, inside the protective \
+         separation distance {required_m:.3} m, and min_tool_speed_m_s is 0"
+    )]
+    InsideProtectiveDistance {
+        s: f64,
+        distance_m: f64,
+        required_m: f64,
+    },
+}
+
+/// How the stage ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "status")]
+#[non_exhaustive]
+pub enum TimingStatus {
+    /// Timed, sampled and every sample checked.
+    Solved,
+    /// Clarabel did not reach a usable solution.
+    SolverStopped { outcome: SolverOutcome },
+    /// A sample broke a limit; no trajectory is emitted.
+    LimitViolated { violation: LimitViolation },
+}
+
+/// Solver figures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolveStats {
+    pub outcome: SolverOutcome,
+    pub iterations: u32,
+    /// Grid segments `N` actually used.
+    pub segments: usize,
+    /// Linear rows kept after pruning.
+    pub linear_rows: usize,
+    /// Clarabel's solve time, seconds.
+    pub solve_time_s: f64,
+    /// Whole stage (spline to checked samples), seconds.
+    pub total_time_s: f64,
+}
+
+/// What the separation rule did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SeparationSummary {
+    /// Smallest tool–hand distance on the grid, metres.
+    pub min_distance_m: f64,
+    /// Smallest tool-speed cap on any segment, m/s.
+    pub min_cap_m_s: f64,
+    /// Segments capped at or below the reduced speed.
+    pub reduced_segments: usize,
+    /// Segments at the crawl floor (the formula asked for a stop).
+    pub crawl_segments: usize,
+}
+
+/// The result of [`time_parameterize`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Timing {
+    pub status: TimingStatus,
+    /// The sampled trajectory: `Some` exactly when `status` is `Solved`.
+    pub trajectory: Option<JointTrajectory>,
+    /// The speed profile on the grid (present whenever Clarabel returned one).
+    pub profile: Option<SpeedProfile>,
+    pub stats: SolveStats,
+    pub separation: Option<SeparationSummary>,
+}
+
+impl Timing {
+    /// Duration of the trajectory, seconds, when solved.
+    pub fn duration(&self) -> Option<f64> {
+        self.trajectory.as_ref().map(JointTrajectory::duration)
+    }
+}
+
+/// Times one arm's joint path: spline → grid → separation caps → rows →
+/// SOCP (Clarabel) → sampling → check. `Err` only for bad input; a solver
+/// that stops early or a sample outside a limit is a [`TimingStatus`].
+/// Consecutive identical waypoints are merged; a path of one configuration
+/// gives a one-sample trajectory at rest.
+pub fn time_parameterize(
+    waypoints: &[Vec<f64>],
+    limits: &JointLimits,
+    proximity: Option<&Proximity>,
+    settings: &TimingSettings,
+) -> Result<Timing, TimingError> {
+    let started = Instant::now();
+    settings.validate()?;
+    validate_input(waypoints, limits, proximity)?;
+
+    // Merge repeated waypoints (zero chord) with their tool positions.
+    let mut keep: Vec<usize> = vec![0];
+    for k in 1..waypoints.len() {
+        let last = &waypoints[*keep.last().expect("non-empty")];
+        if waypoints[k] != *last {
+            keep.push(k);
+        }
+    }
+    let joints = limits.velocity.len();
+    if keep.len() == 1 {
+        return Ok(at_rest(&waypoints[0], started));
+    }
+    let points: Vec<&[f64]> = keep.iter().map(|&k| waypoints[k].as_slice()).collect();
+    let knots = chord_knots(&points);
+    let spline = CubicSpline::with_knots(&points, &knots);
+    let grid = PathGrid::new(&spline, settings.path_points);
+    let n = grid.segments();
+
+    // Limits inside the program: scaled, with the margin taken off.
+    let k = settings.speed_scale;
+    let shrink = 1.0 - settings.limit_margin;
+    let vel_sq: Vec<f64> = limits
+        .velocity
+        .iter()
+        .map(|v| (v * k * shrink).powi(2))
+        .collect();
+    let acc: Vec<f64> = limits
+        .acceleration
+        .iter()
+        .map(|a| a * k * k * shrink)
+        .collect();
+
+    // Tool path and per-segment caps.
+    let tool = match proximity {
+        Some(p) if !p.hands.is_empty() => Some(tool_caps(p, &keep, &knots, &grid)?),
+        _ => None,
+    };
+
+    let mut rows = SegmentRows {
+        offsets: Vec::with_capacity(n + 1),
+        rows: Vec::with_capacity(4 * n),
+    };
+    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
+    rows.offsets.push(0);
+    for i in 0..n {
+        seg_rows.clear();
+        let tool_i = tool
+            .as_ref()
+            .map(|(spline, caps, _)| (spline, (caps[i] * shrink).powi(2)));
+        grid::segment_rows(&spline, &grid, i, &vel_sq, &acc, tool_i, &mut seg_rows);
+        // b_0 = b_N = 0: their coefficients vanish.
+        if i == 0 {
+            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
+        }
+        if i == n - 1 {
+            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
+        }
+        grid::prune_rows(&mut seg_rows, &mut scratch);
+        rows.rows.extend_from_slice(&seg_rows);
+        rows.offsets.push(rows.rows.len());
+    }
+
+    let solution = topp::solve_profile(
+        &grid,
+        &rows,
+        &ProgramSettings {
+            smoothing_weight: settings.smoothing_weight,
+            max_iterations: settings.max_iterations,
+            tolerance: settings.solver_tolerance,
+        },
+    );
+    let mut stats = SolveStats {
+        outcome: solution.outcome,
+        iterations: solution.iterations,
+        segments: n,
+        linear_rows: rows.rows.len(),
+        solve_time_s: solution.solve_time_s,
+        total_time_s: 0.0,
+    };
+    let separation = tool.as_ref().map(|(_, _, summary)| summary.clone());
+    let usable = matches!(
+        solution.outcome,
+        SolverOutcome::Solved | SolverOutcome::AlmostSolved
+    ) && solution.b[1..n].iter().all(|b| b.is_finite() && *b > 0.0);
+    if !usable {
+        stats.total_time_s = started.elapsed().as_secs_f64();
+        let outcome = match solution.outcome {
+            SolverOutcome::Solved | SolverOutcome::AlmostSolved => SolverOutcome::NumericalError,
+            other => other,
+        };
+        return Ok(Timing {
+            status: TimingStatus::SolverStopped { outcome },
+            trajectory: None,
+            profile: None,
+            stats,
+            separation,
+        });
+    }
+
+    let profile = SpeedProfile::new(&grid, &solution.b);
+    let trajectory = sample::sample(&spline, &profile, settings.rate_hz);
+    let velocity: Vec<f64> = limits.velocity.iter().map(|v| v * k).collect();
+    let acceleration: Vec<f64> = limits.acceleration.iter().map(|a| a * k * k).collect();
+    let check = sample::verify(
+        &trajectory,
+        &velocity,
+        &acceleration,
+        settings.tolerance,
+        tool.as_ref()
+            .map(|(spline, caps, _)| (spline, &profile, caps.as_slice())),
+    );
+    debug_assert_eq!(trajectory.points[0].positions.len(), joints);
+    stats.total_time_s = started.elapsed().as_secs_f64();
+    let (status, trajectory) = match check {
+        Ok(()) => (TimingStatus::Solved, Some(trajectory)),
+        Err(violation) => (TimingStatus::LimitViolated { violation }, None),
+    };
+    Ok(Timing {
+        status,
+        trajectory,
+        profile: Some(profile),
+        stats,
+        separation,
+    })
+}
+
+fn validate_input(
+    waypoints: &[Vec<f64>],
+    limits: &JointLimits,
+    proximity: Option<&Proximity>,
+) -> Result<(), TimingError> {
+    let joints = limits.velocity.len();
+    if waypoints.is_empty() {
+        return Err(TimingError::NoWaypoints);
+    }
+    if joints == 0 {
+        return Err(TimingError::SizeMismatch {
+            what: "velocity limits",
+            len: 0,
+            expected: waypoints[0].len().max(1),
+        });
+    }
+    if limits.acceleration.len() != joints {
+        return Err(TimingError::SizeMismatch {
+            what: "acceleration limits",
+            len: limits.acceleration.len(),
+            expected: joints,
+        });
+    }
+    for (what, values) in [
+        ("velocity", &limits.velocity),
+        ("acceleration", &limits.acceleration),
+    ] {
+        for (joint, &value) in values.iter().enumerate() {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(TimingError::BadLimit { what, joint, value });
+            }
+        }
+    }
+    for (index, w) in waypoints.iter().enumerate() {
+        if w.len() != joints {
+            return Err(TimingError::WaypointLength {
+                index,
+                len: w.len(),
+                expected: joints,
+            });
+        }
+        if !w.iter().all(|x| x.is_finite()) {
+            return Err(TimingError::NonFinite {
+                what: "waypoints",
+                index,
+            });
+        }
+    }
+    if let Some(p) = proximity {
+        p.rule.validate()?;
+        if p.tool_positions.len() != waypoints.len() {
+            return Err(TimingError::SizeMismatch {
+                what: "tool positions",
+                len: p.tool_positions.len(),
+                expected: waypoints.len(),
+            });
+        }
+        for (index, t) in p.tool_positions.iter().enumerate() {
+            if !t.iter().all(|x| x.is_finite()) {
+                return Err(TimingError::NonFinite {
+                    what: "tool_positions",
+                    index,
+                });
+            }
+        }
+        for (index, h) in p.hands.iter().enumerate() {
+            if !(h.centre.iter().all(|x| x.is_finite()) && h.radius.is_finite() && h.radius >= 0.0)
+            {
+                return Err(TimingError::NonFinite {
+                    what: "hands",
+                    index,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The tool spline on the joint knots, the cap of every segment (m/s) and
+/// the summary. A segment's distance is the smaller end-point distance less
+/// half its chord (a lower bound along a straight chord).
+fn tool_caps(
+    proximity: &Proximity,
+    keep: &[usize],
+    knots: &[f64],
+    grid: &PathGrid,
+) -> Result<(CubicSpline, Vec<f64>, SeparationSummary), TimingError> {
+    let rule = &proximity.rule;
+    let tool_points: Vec<&[f64]> = keep
+        .iter()
+        .map(|&k| proximity.tool_positions[k].as_slice())
+        .collect();
+    let tool = CubicSpline::with_knots(&tool_points, knots);
+    let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+    let positions: Vec<[f64; 3]> = grid
+        .s
+        .iter()
+        .map(|&s| {
+            tool.eval(s, &mut x, &mut dx, &mut ddx);
+            x
+        })
+        .collect();
+    let distance: Vec<f64> = positions
+        .iter()
+        .map(|&p| nearest_hand_distance(&proximity.hands, p))
+        .collect();
+    let mut summary = SeparationSummary {
+        min_distance_m: distance.iter().copied().fold(f64::INFINITY, f64::min),
+        min_cap_m_s: f64::INFINITY,
+        reduced_segments: 0,
+        crawl_segments: 0,
+    };
+    let mut caps = Vec::with_capacity(grid.segments());
+    for i in 0..grid.segments() {
+        let chord: f64 = (0..3)
+            .map(|k| (positions[i + 1][k] - positions[i][k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let d = (distance[i].min(distance[i + 1]) - 0.5 * chord).max(0.0);
+        let cap = rule.tool_speed_cap(d);
+        if cap <= 0.0 {
+            return Err(TimingError::InsideProtectiveDistance {
+                s: grid.s[i],
+                distance_m: d,
+                required_m: rule.stop_distance(d),
+            });
+        }
+        if cap <= rule.reduced_speed_m_s {
+            summary.reduced_segments += 1;
+        }
+        if rule.formula_speed(d) <= rule.min_tool_speed_m_s {
+            summary.crawl_segments += 1;
+        }
+        summary.min_cap_m_s = summary.min_cap_m_s.min(cap);
+        caps.push(cap);
+    }
+    Ok((tool, caps, summary))
+}
+
+fn at_rest(q: &[f64], started: Instant) -> Timing {
+    let dim = q.len();
+    Timing {
+        status: TimingStatus::Solved,
+        trajectory: Some(JointTrajectory {
+            points: vec![sample::TrajectoryPoint {
+                positions: q.to_vec(),
+                velocities: vec![0.0; dim],
+                accelerations: vec![0.0; dim],
+                time_from_start: 0.0,
+            }],
+        }),
+        profile: None,
+        stats: SolveStats {
+            outcome: SolverOutcome::Solved,
+            iterations: 0,
+            segments: 0,
+            linear_rows: 0,
+            solve_time_s: 0.0,
+            total_time_s: started.elapsed().as_secs_f64(),
+        },
+        separation: None,
+    }
+}

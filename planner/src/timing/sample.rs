@@ -1,0 +1,180 @@
+//! From the speed profile to a joint trajectory sampled at the controller
+//! rate, and the check of every sample against the limits.
+//!
+//! On segment `i` the path acceleration is constant, so with
+//! `ṡ_i = √b_i`: `Δt_i = 2Δs_i/(ṡ_i + ṡ_{i+1})`, `s̈ = (ṡ_{i+1} − ṡ_i)/Δt_i`,
+//! `s(τ) = s_i + ṡ_i τ + s̈ τ²/2`. Joint values follow by the chain rule:
+//! `q̇ = q'(s) ṡ`, `q̈ = q''(s) ṡ² + q'(s) s̈`.
+
+use serde::{Deserialize, Serialize};
+
+use super::grid::PathGrid;
+use super::spline::CubicSpline;
+
+/// One sample, the shape of ROS `trajectory_msgs/JointTrajectoryPoint`
+/// (rad, rad/s, rad/s², seconds from the start).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryPoint {
+    pub positions: Vec<f64>,
+    pub velocities: Vec<f64>,
+    pub accelerations: Vec<f64>,
+    pub time_from_start: f64,
+}
+
+/// A timed joint trajectory, the shape of ROS `trajectory_msgs/JointTrajectory`
+/// without `joint_names` (the caller knows the arm and adds them).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct JointTrajectory {
+    pub points: Vec<TrajectoryPoint>,
+}
+
+impl JointTrajectory {
+    /// `time_from_start` of the last point, 0 for an empty trajectory.
+    pub fn duration(&self) -> f64 {
+        self.points.last().map_or(0.0, |p| p.time_from_start)
+    }
+}
+
+/// The solved profile on the grid: `s_i`, `ṡ_i = √b_i`, `t_i`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpeedProfile {
+    /// Grid points, units of the path parameter (rad of joint-space chord).
+    pub s: Vec<f64>,
+    /// `ṡ` at each grid point, per second.
+    pub s_dot: Vec<f64>,
+    /// Time at each grid point, seconds.
+    pub t: Vec<f64>,
+}
+
+impl SpeedProfile {
+    /// From `b_i = ṡ²` at the grid points.
+    pub fn new(grid: &PathGrid, b: &[f64]) -> Self {
+        let s_dot: Vec<f64> = b.iter().map(|b| b.max(0.0).sqrt()).collect();
+        let mut t = Vec::with_capacity(b.len());
+        t.push(0.0);
+        for i in 0..grid.segments() {
+            let dt = 2.0 * grid.step(i) / (s_dot[i] + s_dot[i + 1]);
+            t.push(t[i] + dt);
+        }
+        Self {
+            s: grid.s.clone(),
+            s_dot,
+            t,
+        }
+    }
+
+    /// Total duration, seconds.
+    pub fn duration(&self) -> f64 {
+        *self.t.last().unwrap_or(&0.0)
+    }
+
+    /// `(s, ṡ, s̈, segment)` at time `t` (clamped to the profile).
+    pub fn state_at(&self, t: f64) -> (f64, f64, f64, usize) {
+        let last = self.t.len() - 2;
+        let i = (self.t.partition_point(|&ti| ti <= t).max(1) - 1).min(last);
+        let dt = self.t[i + 1] - self.t[i];
+        let tau = (t - self.t[i]).clamp(0.0, dt);
+        let acc = (self.s_dot[i + 1] - self.s_dot[i]) / dt;
+        let s = self.s[i] + self.s_dot[i] * tau + 0.5 * acc * tau * tau;
+        (s.min(self.s[i + 1]), self.s_dot[i] + acc * tau, acc, i)
+    }
+}
+
+/// Samples at `rate_hz`, from 0 to the duration inclusive (the last sample
+/// lands exactly on the end, at rest).
+pub fn sample(spline: &CubicSpline, profile: &SpeedProfile, rate_hz: f64) -> JointTrajectory {
+    let duration = profile.duration();
+    let dim = spline.dim();
+    let period = 1.0 / rate_hz;
+    let count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
+    let mut points = Vec::with_capacity(count + 1);
+    let (mut q, mut dq, mut ddq) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
+    for k in 0..=count {
+        let t = if k == count {
+            duration
+        } else {
+            k as f64 * period
+        };
+        let (s, s_dot, s_ddot, _) = profile.state_at(t);
+        spline.eval(s, &mut q, &mut dq, &mut ddq);
+        points.push(TrajectoryPoint {
+            positions: q.clone(),
+            velocities: dq.iter().map(|d| d * s_dot).collect(),
+            accelerations: (0..dim)
+                .map(|j| ddq[j] * s_dot * s_dot + dq[j] * s_ddot)
+                .collect(),
+            time_from_start: t,
+        });
+    }
+    JointTrajectory { points }
+}
+
+/// Which quantity broke its limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LimitKind {
+    Velocity,
+    Acceleration,
+    ToolSpeed,
+}
+
+/// The first sample found outside its limit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LimitViolation {
+    pub kind: LimitKind,
+    /// Sample index.
+    pub sample: usize,
+    /// Joint index (0 for the tool speed).
+    pub joint: usize,
+    pub value: f64,
+    pub limit: f64,
+}
+
+/// Every sample within `velocity`/`acceleration` (× (1 + `tolerance`)), and the
+/// tool speed within the cap of its segment when a tool path is given.
+pub fn verify(
+    trajectory: &JointTrajectory,
+    velocity: &[f64],
+    acceleration: &[f64],
+    tolerance: f64,
+    tool: Option<(&CubicSpline, &SpeedProfile, &[f64])>,
+) -> Result<(), LimitViolation> {
+    for (k, p) in trajectory.points.iter().enumerate() {
+        for j in 0..velocity.len() {
+            if !(p.velocities[j].abs() <= velocity[j] * (1.0 + tolerance)) {
+                return Err(LimitViolation {
+                    kind: LimitKind::Velocity,
+                    sample: k,
+                    joint: j,
+                    value: p.velocities[j],
+                    limit: velocity[j],
+                });
+            }
+            if !(p.accelerations[j].abs() <= acceleration[j] * (1.0 + tolerance)) {
+                return Err(LimitViolation {
+                    kind: LimitKind::Acceleration,
+                    sample: k,
+                    joint: j,
+                    value: p.accelerations[j],
+                    limit: acceleration[j],
+                });
+            }
+        }
+        if let Some((spline, profile, caps)) = tool {
+            let (s, s_dot, _, segment) = profile.state_at(p.time_from_start);
+            let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+            spline.eval(s, &mut x, &mut dx, &mut ddx);
+            let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
+            if !(speed <= caps[segment] * (1.0 + tolerance)) {
+                return Err(LimitViolation {
+                    kind: LimitKind::ToolSpeed,
+                    sample: k,
+                    joint: 0,
+                    value: speed,
+                    limit: caps[segment],
+                });
+            }
+        }
+    }
+    Ok(())
+}
