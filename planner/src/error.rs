@@ -85,6 +85,9 @@ pub enum PlanError {
     Scenario(#[from] ScenarioError),
     #[error(transparent)]
     Instruction(#[from] InstructionError),
+    /// The scenario's robot could not be loaded.
+    #[error("robot: {0}")]
+    Robot(String),
     /// Every sub-goal failed; each reason is listed by sub-goal.
     #[error("no sub-goal could be planned:{}", reasons.iter().map(|r| format!("\n  - {r}")).collect::<String>())]
     Unsolvable { reasons: Vec<String> },

@@ -14,6 +14,7 @@
 //! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`oracle`] | — (BFS, for measurement) |
 //! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
+//! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
 //! | pipeline | [`plan`] | Fig. 2 |
 //!
 //! ```
@@ -31,6 +32,7 @@ pub mod error;
 pub mod grid;
 pub mod instruction;
 pub mod lift;
+pub mod motion;
 pub mod oracle;
 pub mod plan;
 pub mod scenario;
@@ -41,6 +43,6 @@ pub mod timing;
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};
 pub use grid::{CellCode, StateGrid};
-pub use plan::{Plan, PlanOptions, Stage, plan};
+pub use plan::{Plan, PlanOptions, Planner, Stage, plan};
 pub use scenario::Scenario;
 pub use task::{Action, GridTask};

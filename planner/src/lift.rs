@@ -33,6 +33,9 @@ pub struct LiftSettings {
     pub carry_clearance: f64,
     /// Gap between the object's bottom and the box floor at release.
     pub release_clearance: f64,
+    /// Longest straight step between consecutive waypoints; longer segments
+    /// (the vertical moves, the carry over the wall) are cut into equal steps.
+    pub max_step: f64,
 }
 
 impl Default for LiftSettings {
@@ -41,6 +44,7 @@ impl Default for LiftSettings {
             approach_clearance: 0.10,
             carry_clearance: 0.05,
             release_clearance: 0.01,
+            max_step: 0.01,
         }
     }
 }
@@ -70,8 +74,10 @@ pub enum Phase {
 }
 
 /// One tool waypoint: position (base frame, metres), tool yaw (rad, tool x
-/// axis in the horizontal plane; the tool's z axis points down) and whether
-/// the gripper holds the object on arrival.
+/// axis in the horizontal plane; the tool's z axis points down), the phase of
+/// the segment that ends here and whether the gripper holds the object on
+/// arrival. The gripper closes at the last `grasp` waypoint and opens at the
+/// last `release` waypoint.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ToolWaypoint {
     pub position: [f64; 3],
@@ -114,7 +120,7 @@ pub fn lift(
         .position(|&a| a == Action::Goal)
         .unwrap_or(actions.len());
     let to_target = &cells[..=grasp_at];
-    let to_goal = &cells[grasp_at..=goal_at];
+    let to_goal = &cells[grasp_at + 1..=goal_at];
     let at = |p: [f64; 2], h: f64| {
         let [x, y] = scenario.pixel_to_base(p);
         [x, y, table + h]
@@ -167,9 +173,28 @@ pub fn lift(
     ));
     out.push(point(drop_px, carry_height, Phase::Retreat, false));
     LiftedMotion {
-        waypoints: out,
+        waypoints: densify(&out, settings.max_step),
         carry_height,
     }
+}
+
+/// Cuts every segment longer than `max_step` into equal steps; inserted
+/// waypoints take the phase and holding state of the segment's end.
+fn densify(waypoints: &[ToolWaypoint], max_step: f64) -> Vec<ToolWaypoint> {
+    let mut out: Vec<ToolWaypoint> = waypoints.first().copied().into_iter().collect();
+    for pair in waypoints.windows(2) {
+        let (a, b) = (pair[0].position, pair[1].position);
+        let length = (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt();
+        let steps = (length / max_step).ceil().max(1.0) as usize;
+        out.extend((1..=steps).map(|i| {
+            let t = i as f64 / steps as f64;
+            ToolWaypoint {
+                position: [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k])),
+                ..pair[1]
+            }
+        }));
+    }
+    out
 }
 
 /// Height above the table of the tallest object (other than the held one),

@@ -5,7 +5,10 @@
 //! goal, the gripper where it released). A sub-goal that cannot be solved is
 //! reported by name with the reason while the others still plan.
 
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
+
+use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
@@ -14,6 +17,7 @@ use crate::error::PlanError;
 use crate::grid::{CellCode, GridRequest, StateGrid};
 use crate::instruction::{SubGoal, subgoals};
 use crate::lift::{LiftSettings, LiftedMotion, lift};
+use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
 use crate::task::{Action, GridTask};
@@ -26,6 +30,8 @@ pub enum Stage {
     Grid,
     /// Plus tool waypoints in the robot base frame.
     Waypoints,
+    /// Plus the arm choice and its joint path (inverse kinematics).
+    Joints,
 }
 
 /// How to run the pipeline.
@@ -36,14 +42,19 @@ pub struct PlanOptions {
     /// The last stage to run.
     pub until: Stage,
     pub lift: LiftSettings,
+    pub ik: PathSettings,
+    /// Folder that relative paths in the scenario (a user robot) start from.
+    pub base_dir: PathBuf,
 }
 
 impl Default for PlanOptions {
     fn default() -> Self {
         Self {
             seed: 1,
-            until: Stage::Waypoints,
+            until: Stage::Joints,
             lift: LiftSettings::default(),
+            ik: PathSettings::default(),
+            base_dir: PathBuf::from("."),
         }
     }
 }
@@ -83,6 +94,15 @@ pub struct SubgoalPlan {
     /// Tool waypoints (stage `waypoints` and later).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub waypoints: Option<LiftedMotion>,
+    /// The arm that moves (stage `joints` and later).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub arm: Option<String>,
+    /// The moving arm's joints, in the order of every joint vector below.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint_names: Option<Vec<String>>,
+    /// The arm's configuration at the start and at every tool waypoint.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint_path: Option<Vec<Vec<f64>>>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -106,6 +126,7 @@ pub struct StageTimings {
     pub grid: Duration,
     pub cql: Duration,
     pub lift: Duration,
+    pub ik: Duration,
 }
 
 /// Runs `f` and adds its wall time to `slot`.
@@ -116,83 +137,117 @@ fn timed<T>(slot: &mut Duration, f: impl FnOnce() -> T) -> T {
     value
 }
 
-/// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
-/// `options.until`. `Err` only when the instruction itself is not executable
-/// or no sub-goal could be planned; otherwise unsolvable sub-goals are listed
-/// in [`Plan::unsolved`].
-pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
-    let mut timings = StageTimings::default();
-    let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
-    let mut scene = scenario.clone();
-    let mut gripper = scenario.robot.start;
-    let mut plan = Plan {
-        scenario: scenario.name.clone().unwrap_or_default(),
-        seed: options.seed,
-        until: options.until,
-        subgoals: Vec::new(),
-        unsolved: Vec::new(),
-        timings: StageTimings::default(),
-    };
-    for (k, goal) in goals.iter().enumerate() {
-        let request = request(&scene, goal, gripper);
-        match plan_subgoal(
-            &scene,
-            goal,
-            request,
-            subgoal_seed(options.seed, k),
-            options,
-            &mut timings,
-        ) {
-            Ok(done) => {
-                gripper = *done.path_px.last().unwrap_or(&gripper);
-                let object = &mut scene.objects[request.object];
-                object.bbox = object.bbox.centred_at(gripper);
-                plan.subgoals.push(done);
-            }
-            Err(reason) => plan.unsolved.push(UnsolvedSubgoal {
-                object: goal.object.clone(),
-                goal: goal.goal.clone(),
-                reason,
-            }),
-        }
-    }
-    plan.timings = timings;
-    if plan.subgoals.is_empty() {
-        let reasons = plan
-            .unsolved
-            .iter()
-            .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
-            .collect();
-        return Err(PlanError::Unsolvable { reasons });
-    }
-    Ok(plan)
+/// The planner: runs the pipeline on scenarios with fixed options.
+#[derive(Debug, Clone, Default)]
+pub struct Planner {
+    pub options: PlanOptions,
 }
 
-/// One sub-goal through the stages: grid → CQL → lift. `Err` is the reason
-/// it cannot be planned.
-fn plan_subgoal(
-    scene: &Scenario,
-    goal: &SubGoal,
-    request: GridRequest,
-    seed: u64,
-    options: &PlanOptions,
-    timings: &mut StageTimings,
-) -> Result<SubgoalPlan, String> {
-    let task = timed(&mut timings.grid, || {
-        GridTask::new(StateGrid::build(scene, request))
-    });
-    let learner = ContextualQLearner::new(scene.learner.clone());
-    let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
-    let optimal = oracle::optimal_length(&task).ok_or_else(|| why_unsolvable(scene, request))?;
-    if !learned.solved {
-        return Err(format!(
-            "the learner found no plan within {} training steps",
-            learned.training_steps
-        ));
+/// What carries over from one sub-goal to the next: the scene as the camera
+/// would see it and the robot's configuration.
+struct World {
+    scene: Scenario,
+    gripper_px: [f64; 2],
+    robot: Option<RobotModel>,
+    joints: Vec<f64>,
+}
+
+impl Planner {
+    pub fn new(options: PlanOptions) -> Self {
+        Self { options }
     }
-    let mut done = subgoal_plan(goal, &task, &learned, optimal);
-    if options.until >= Stage::Waypoints {
-        done.waypoints = Some(timed(&mut timings.lift, || {
+
+    /// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
+    /// `options.until`. `Err` when the input is bad (instruction not
+    /// executable, robot cannot be loaded) or no sub-goal could be planned;
+    /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
+    pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
+        let options = &self.options;
+        let mut timings = StageTimings::default();
+        let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
+        let robot = match options.until >= Stage::Joints {
+            true => Some(
+                RobotModel::load(&scenario.robot.model, &options.base_dir)
+                    .map_err(|e| PlanError::Robot(e.to_string()))?,
+            ),
+            false => None,
+        };
+        let joints = robot.as_ref().map_or_else(Vec::new, |r| r.home().to_vec());
+        let mut world = World {
+            scene: scenario.clone(),
+            gripper_px: scenario.robot.start,
+            robot,
+            joints,
+        };
+        let mut plan = Plan {
+            scenario: scenario.name.clone().unwrap_or_default(),
+            seed: options.seed,
+            until: options.until,
+            subgoals: Vec::new(),
+            unsolved: Vec::new(),
+            timings: StageTimings::default(),
+        };
+        for (k, goal) in goals.iter().enumerate() {
+            let request = request(&world.scene, goal, world.gripper_px);
+            match self.plan_subgoal(
+                &world,
+                goal,
+                request,
+                subgoal_seed(options.seed, k),
+                &mut timings,
+            ) {
+                Ok(done) => {
+                    world.advance(request, &done);
+                    plan.subgoals.push(done);
+                }
+                Err(reason) => plan.unsolved.push(UnsolvedSubgoal {
+                    object: goal.object.clone(),
+                    goal: goal.goal.clone(),
+                    reason,
+                }),
+            }
+        }
+        plan.timings = timings;
+        if plan.subgoals.is_empty() {
+            let reasons = plan
+                .unsolved
+                .iter()
+                .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
+                .collect();
+            return Err(PlanError::Unsolvable { reasons });
+        }
+        Ok(plan)
+    }
+
+    /// One sub-goal through the stages: grid → CQL → lift → IK. `Err` is the
+    /// reason it cannot be planned.
+    fn plan_subgoal(
+        &self,
+        world: &World,
+        goal: &SubGoal,
+        request: GridRequest,
+        seed: u64,
+        timings: &mut StageTimings,
+    ) -> Result<SubgoalPlan, String> {
+        let (options, scene) = (&self.options, &world.scene);
+        let task = timed(&mut timings.grid, || {
+            GridTask::new(StateGrid::build(scene, request))
+        });
+        let learner = ContextualQLearner::new(scene.learner.clone());
+        let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
+        let optimal =
+            oracle::optimal_length(&task).ok_or_else(|| why_unsolvable(scene, request))?;
+        if !learned.solved {
+            return Err(format!(
+                "the learner found no plan within {} training steps",
+                learned.training_steps
+            ));
+        }
+        let mut done = subgoal_plan(goal, &task, &learned, optimal);
+        if options.until < Stage::Waypoints {
+            return Ok(done);
+        }
+        let motion = timed(&mut timings.lift, || {
             lift(
                 scene,
                 &task,
@@ -201,9 +256,54 @@ fn plan_subgoal(
                 &learned.cells,
                 &options.lift,
             )
-        }));
+        });
+        let Some(robot) = world
+            .robot
+            .as_ref()
+            .filter(|_| options.until >= Stage::Joints)
+        else {
+            done.waypoints = Some(motion);
+            return Ok(done);
+        };
+        let choice = timed(&mut timings.ik, || {
+            solve_motion(robot, &motion, &world.joints, &options.ik, seed)
+        })?;
+        let arm = &robot.arms()[choice.arm_index];
+        done.arm = Some(choice.arm.clone());
+        done.joint_names = Some(arm.joint_names.clone());
+        let start = arm.extract(&world.joints);
+        done.joint_path = Some(
+            std::iter::once(start)
+                .chain(choice.path.waypoints)
+                .collect(),
+        );
+        done.waypoints = Some(motion);
+        Ok(done)
     }
-    Ok(done)
+}
+
+impl World {
+    /// The scene after a planned sub-goal: the object rests where it was
+    /// released, the gripper is there, the arm where its path ended.
+    fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
+        self.gripper_px = *done.path_px.last().unwrap_or(&self.gripper_px);
+        let object = &mut self.scene.objects[request.object];
+        object.bbox = object.bbox.centred_at(self.gripper_px);
+        let (Some(robot), Some(arm), Some(path)) = (&self.robot, &done.arm, &done.joint_path)
+        else {
+            return;
+        };
+        if let (Ok(arm), Some(last)) = (robot.arm(arm), path.last()) {
+            let parked = robot.parked_except(&self.joints, &arm.name);
+            self.joints = parked;
+            arm.insert(&mut self.joints, last);
+        }
+    }
+}
+
+/// Plans `scenario` with `options`: `Planner::new(options).plan(scenario)`.
+pub fn plan(scenario: &Scenario, options: &PlanOptions) -> Result<Plan, PlanError> {
+    Planner::new(options.clone()).plan(scenario)
 }
 
 fn request(scene: &Scenario, goal: &SubGoal, gripper: [f64; 2]) -> GridRequest {
@@ -248,6 +348,9 @@ fn subgoal_plan(
             origin_px: grid.origin,
         },
         waypoints: None,
+        arm: None,
+        joint_names: None,
+        joint_path: None,
     }
 }
 

@@ -35,7 +35,10 @@ pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
 
 pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
     if args.poses == 0 {
-        return Err(Failure::new(ExitKind::BadInput, "--poses must be at least 1"));
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--poses must be at least 1",
+        ));
     }
     let bar = progress_bar(1, "runs");
     bar.set_message("solving");
@@ -43,10 +46,16 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     bar.finish_and_clear();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("report serialises")
+        );
         return Ok(());
     }
-    println!("{:<12} {:<6} {:>7} {:>9} {:>11} {:>11} {:>13}", "robot", "arm", "poses", "success", "median µs", "k success", "k median µs");
+    println!(
+        "{:<12} {:<6} {:>7} {:>9} {:>11} {:>11} {:>13}",
+        "robot", "arm", "poses", "success", "median µs", "k success", "k median µs"
+    );
     for a in &report.arms {
         println!(
             "{:<12} {:<6} {:>7} {:>8.2}% {:>11.1} {:>10.2}% {:>13.1}",

@@ -45,7 +45,7 @@ pub struct PlanArgs {
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Stop the pipeline after this stage and print what exists so far.
-    #[arg(long, value_enum, default_value_t = Until::Waypoints)]
+    #[arg(long, value_enum, default_value_t = Until::Joints)]
     pub until: Until,
 }
 
@@ -56,6 +56,8 @@ pub enum Until {
     Grid,
     /// Plus tool waypoints in the robot base frame.
     Waypoints,
+    /// Plus the arm choice and its joint path.
+    Joints,
 }
 
 impl From<Until> for afford_planner::Stage {
@@ -63,6 +65,7 @@ impl From<Until> for afford_planner::Stage {
         match until {
             Until::Grid => Self::Grid,
             Until::Waypoints => Self::Waypoints,
+            Until::Joints => Self::Joints,
         }
     }
 }

@@ -13,13 +13,22 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args));
     }
+    let base_dir = args
+        .scenario
+        .as_deref()
+        .and_then(Path::parent)
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
     let options = PlanOptions {
         seed: args.seed,
         until: args.until.into(),
+        base_dir,
         ..PlanOptions::default()
     };
     let plan = plan(&scenario, &options).map_err(|e| match e {
-        PlanError::Scenario(_) => Failure::new(ExitKind::BadInput, e.to_string()),
+        PlanError::Scenario(_) | PlanError::Robot(_) => {
+            Failure::new(ExitKind::BadInput, e.to_string())
+        }
         _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
     })?;
     emit(&render(&plan, args.format)?, args.output.as_deref())?;

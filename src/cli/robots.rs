@@ -3,10 +3,13 @@
 use super::{ExitKind, Failure, RobotsArgs};
 
 pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
-    let robots =
-        afford_kinematics::builtin_robots().map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    let robots = afford_kinematics::builtin_robots()
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&robots).expect("robot list serialises"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&robots).expect("robot list serialises")
+        );
         return Ok(());
     }
     for robot in &robots {

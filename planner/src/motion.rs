@@ -1,0 +1,56 @@
+//! From tool waypoints to a joint path: every waypoint becomes a top-down
+//! IK target (tool axis down, yaw from the lifting stage), and the robot's
+//! arm that reaches all of them at the lowest joint-space cost is chosen
+//! (the other arms park). The path starts from the robot's current
+//! configuration, so the move to the first waypoint is part of it.
+
+use afford_kinematics::{ArmChoice, IkTarget, PathSettings, RobotModel, Vec3, choose_arm};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::lift::LiftedMotion;
+
+/// The IK targets of a lifted motion.
+pub fn ik_targets(motion: &LiftedMotion) -> Vec<IkTarget> {
+    motion
+        .waypoints
+        .iter()
+        .map(|w| IkTarget::TopDown {
+            position: Vec3::new(w.position[0], w.position[1], w.position[2]),
+            yaw: Some(w.yaw),
+        })
+        .collect()
+}
+
+/// Chooses the arm and solves the joint path for `motion` from the whole-robot
+/// configuration `current`. `Err` is the reason in words ("goal unreachable
+/// for arm left: …").
+pub fn solve_motion(
+    robot: &RobotModel,
+    motion: &LiftedMotion,
+    current: &[f64],
+    settings: &PathSettings,
+    seed: u64,
+) -> Result<ArmChoice, String> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let targets = ik_targets(motion);
+    match choose_arm(robot, &targets, current, settings, &mut rng) {
+        Err(e) => Err(e.to_string()),
+        Ok(Ok(choice)) => Ok(choice),
+        Ok(Err(none)) => Err(none
+            .failures
+            .iter()
+            .map(|(arm, f)| {
+                let phase = motion
+                    .waypoints
+                    .get(f.index)
+                    .map_or("?".to_string(), |w| format!("{:?}", w.phase).to_lowercase());
+                format!(
+                    "{phase} waypoint {} unreachable for arm {arm}: {}",
+                    f.index, f.reason
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ")),
+    }
+}
