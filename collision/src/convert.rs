@@ -21,6 +21,7 @@ pub(crate) fn to_parry(pose: &Pose) -> PPose {
 }
 
 /// parry pose → nalgebra pose (exact).
+#[cfg_attr(not(test), allow(dead_code))]
 #[inline]
 pub(crate) fn from_parry(pose: &PPose) -> Pose {
     let t = pose.translation;
@@ -29,12 +30,6 @@ pub(crate) fn from_parry(pose: &PPose) -> Pose {
         Translation3::new(t.x, t.y, t.z),
         UnitQuaternion::new_unchecked(Quaternion::new(r.w, r.x, r.y, r.z)),
     )
-}
-
-/// `[x, y, z]` → parry vector.
-#[inline]
-pub(crate) fn vec(v: [f64; 3]) -> PVec {
-    PVec::new(v[0], v[1], v[2])
 }
 
 #[cfg(test)]

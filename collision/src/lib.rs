@@ -22,19 +22,29 @@
 //! [`CheckSettings::tolerance`] (0.1 mm) of its margin.
 
 
+mod bench;
 mod check;
 mod convert;
 mod dense;
 mod error;
+mod fixture;
 
 mod robot;
 mod scene;
 mod sweep;
 
 
+pub use bench::{
+    BenchCase, CollisionBenchReport, CrossCheck, bench_case, collision_benchmark, cross_check,
+    median_ms_arm_path, pair_queries_per_s, random_case,
+};
 pub use check::{CheckSettings, CheckStats, Collision, HitKind, PathOptions, PathVerdict};
-pub use dense::{DenseSettings, dense_joint_path, dense_tool_path};
+pub use dense::{DenseResult, DenseSettings, dense_joint_path, dense_tool_path};
 pub use error::CollisionError;
+pub use fixture::{
+    Expect, Fixture, FixtureOutcome, FixturePath, HeldSpec, Verdict, fixture_files, load_fixture,
+    run_fixture,
+};
 
 pub use robot::{Attachment, RobotGeometry};
 pub use scene::{BoxKind, GOAL_WALL, Obstacle, Scene, SceneBox, SceneSpec, TABLE_THICKNESS, TableSpec};

@@ -69,8 +69,6 @@ pub(crate) struct Bodies<'a> {
 struct Nearest {
     /// Distance minus margin (negative inside the perimeter).
     slack: f64,
-    /// Distance to the real shape (0 when touching or penetrating).
-    distance: f64,
     /// Scene part index or body index.
     partner: usize,
 }
@@ -168,7 +166,6 @@ fn nearest(
             let d = distance(pose, shape, &poses[o], b.shapes[o].as_ref());
             Nearest {
                 slack: d,
-                distance: d,
                 partner: o,
             }
         }
@@ -176,7 +173,6 @@ fn nearest(
             let aabb: Aabb = shape.compute_aabb(pose);
             let mut best = Nearest {
                 slack: f64::INFINITY,
-                distance: f64::INFINITY,
                 partner: usize::MAX,
             };
             // Broad phase: AABB distance is a lower bound; visit the parts in
@@ -202,8 +198,7 @@ fn nearest(
                 if slack < best.slack {
                     best = Nearest {
                         slack,
-                        distance: d,
-                        partner: i,
+                                partner: i,
                     };
                 }
             }
