@@ -96,11 +96,13 @@ fn segments(fx: &Fixture) -> usize {
 fn settle(fx: &mut Fixture) -> bool {
     let d = dense_of(fx, &DenseSettings::default());
     match &d.first_hit {
-        None => fx.expect = Expect {
-            verdict: Verdict::Free,
-            pair: None,
-            segment: None,
-        },
+        None => {
+            fx.expect = Expect {
+                verdict: Verdict::Free,
+                pair: None,
+                segment: None,
+            }
+        }
         Some((t, a, b, _)) => {
             let n = segments(fx).max(1);
             fx.expect = Expect {
@@ -113,13 +115,14 @@ fn settle(fx: &mut Fixture) -> bool {
     let file = PathBuf::from(&fx.name);
     let (g, scene, opts) = fx.prepare(&file).expect("prepare");
     let v = fx.check(&g, &scene, &opts, &file).expect("check");
-    let ok = v.is_free() == !d.collides();
+    let ok = v.is_free() != d.collides();
     println!(
         "{:<40} dense: {} (min slack {:.4} m {:?}) fast: {}",
         fx.name,
-        d.first_hit
-            .as_ref()
-            .map_or("free".to_string(), |h| format!("{} vs {} at t={:.3}", h.1, h.2, h.0)),
+        d.first_hit.as_ref().map_or("free".to_string(), |h| format!(
+            "{} vs {} at t={:.3}",
+            h.1, h.2, h.0
+        )),
         d.min_slack,
         d.min_pair,
         v.first().map_or("free".to_string(), |c| c.to_string())
@@ -148,11 +151,23 @@ fn closest(fx: &Fixture) -> DenseResult {
 /// approach +1 mm (collides) and -1 mm (free).
 fn graze(base: Fixture, name: &str, out: &mut Vec<Fixture>) {
     let c = closest(&base);
-    assert_eq!(c.min_pair.1, name, "{}: closest pair is {:?}", base.name, c.min_pair);
-    let idx = base.scene.boxes.iter().position(|b| b.name == name).unwrap();
+    assert_eq!(
+        c.min_pair.1, name,
+        "{}: closest pair is {:?}",
+        base.name, c.min_pair
+    );
+    let idx = base
+        .scene
+        .boxes
+        .iter()
+        .position(|b| b.name == name)
+        .unwrap();
     let m0 = base.scene.boxes[idx].margin;
     let dmin = c.min_slack + m0;
-    for (suffix, delta, word) in [("free-by-1mm", -0.001, "outside"), ("hit-by-1mm", 0.001, "inside")] {
+    for (suffix, delta, word) in [
+        ("free-by-1mm", -0.001, "outside"),
+        ("hit-by-1mm", 0.001, "inside"),
+    ] {
         let mut f = base.clone();
         f.name = format!("{}-{suffix}", base.name);
         f.description = format!(
@@ -181,8 +196,20 @@ fn main() {
 
     // --- tool paths, iiwa -------------------------------------------------
     let low = vec![
-        bx("red-square-1", BoxKind::Object, [0.3, 0.35], [0.04, 0.04, 0.03], 0.02),
-        bx("blue-square-1", BoxKind::Object, [0.8, -0.4], [0.04, 0.04, 0.03], 0.02),
+        bx(
+            "red-square-1",
+            BoxKind::Object,
+            [0.3, 0.35],
+            [0.04, 0.04, 0.03],
+            0.02,
+        ),
+        bx(
+            "blue-square-1",
+            BoxKind::Object,
+            [0.8, -0.4],
+            [0.04, 0.04, 0.03],
+            0.02,
+        ),
     ];
     fx.push(fixture(
         "tool-free-over-table",
@@ -191,7 +218,13 @@ fn main() {
         scene(low.clone()),
         tool(&[[0.4, -0.3, -0.1, 0.0], [0.7, 0.3, -0.1, 0.5]]),
     ));
-    let hand = bx("hand-1", BoxKind::Hand, [0.55, 0.0], [0.08, 0.18, 0.05], 0.10);
+    let hand = bx(
+        "hand-1",
+        BoxKind::Hand,
+        [0.55, 0.0],
+        [0.08, 0.18, 0.05],
+        0.10,
+    );
     // Finger tips reach 0.015 m beyond the TCP.
     let over_hand = |gap: f64| TZ + 0.05 + 0.015 + gap;
     fx.push(fixture(
@@ -199,14 +232,20 @@ fn main() {
         "Gripper passes 0.07 m over a hand whose perimeter is 0.10 m.",
         "kuka_iiwa14",
         scene(vec![hand.clone()]),
-        tool(&[[0.55, -0.3, over_hand(0.07), 0.0], [0.55, 0.3, over_hand(0.07), 0.0]]),
+        tool(&[
+            [0.55, -0.3, over_hand(0.07), 0.0],
+            [0.55, 0.3, over_hand(0.07), 0.0],
+        ]),
     ));
     fx.push(fixture(
         "tool-hand-perimeter-kept",
         "Gripper passes 0.13 m over a hand whose perimeter is 0.10 m.",
         "kuka_iiwa14",
         scene(vec![hand.clone()]),
-        tool(&[[0.55, -0.3, over_hand(0.13), 0.0], [0.55, 0.3, over_hand(0.13), 0.0]]),
+        tool(&[
+            [0.55, -0.3, over_hand(0.13), 0.0],
+            [0.55, 0.3, over_hand(0.13), 0.0],
+        ]),
     ));
     fx.push(fixture(
         "tool-hand-beside-path",
@@ -215,21 +254,33 @@ fn main() {
         scene(vec![hand.clone()]),
         tool(&[[0.79, -0.3, TZ + 0.06, 0.0], [0.79, 0.3, TZ + 0.06, 0.0]]),
     ));
-    let sens = bx("yellow-circle-1", BoxKind::Object, [0.6, 0.1], [0.05, 0.05, 0.04], 0.06);
+    let sens = bx(
+        "yellow-circle-1",
+        BoxKind::Object,
+        [0.6, 0.1],
+        [0.05, 0.05, 0.04],
+        0.06,
+    );
     let over_sens = |gap: f64| TZ + 0.04 + 0.015 + gap;
     fx.push(fixture(
         "tool-sensitive-perimeter-entered",
         "Gripper passes 0.04 m over a sensitive object (perimeter 0.06 m).",
         "kuka_iiwa14",
         scene(vec![sens.clone()]),
-        tool(&[[0.6, -0.2, over_sens(0.04), 0.0], [0.6, 0.4, over_sens(0.04), 0.0]]),
+        tool(&[
+            [0.6, -0.2, over_sens(0.04), 0.0],
+            [0.6, 0.4, over_sens(0.04), 0.0],
+        ]),
     ));
     fx.push(fixture(
         "tool-sensitive-perimeter-kept",
         "Gripper passes 0.08 m over a sensitive object (perimeter 0.06 m).",
         "kuka_iiwa14",
         scene(vec![sens.clone()]),
-        tool(&[[0.6, -0.2, over_sens(0.08), 0.0], [0.6, 0.4, over_sens(0.08), 0.0]]),
+        tool(&[
+            [0.6, -0.2, over_sens(0.08), 0.0],
+            [0.6, 0.4, over_sens(0.08), 0.0],
+        ]),
     ));
     let goal = |m: f64| bx("right box", BoxKind::Goal, [0.6, 0.2], [0.2, 0.2, 0.10], m);
     let held = HeldSpec {
@@ -240,21 +291,46 @@ fn main() {
     // Held box bottom is 0.04 below the TCP; finger tips 0.015.
     let inside = TZ + GOAL_WALL + 0.04 + 0.01;
     for (name, desc, travel, m) in [
-        ("tool-held-object-hits-goal-wall", "Carrying a cube at a height where the fingers clear the goal wall by 1 cm but the cube's bottom is 1.5 cm below its top.", TZ + 0.10 + 0.025, 0.0),
-        ("tool-held-object-over-goal-wall", "Carrying a cube 2 cm over the goal wall, then down into the open box.", TZ + 0.10 + 0.06, 0.0),
-        ("tool-held-object-in-wall-perimeter", "Carrying a cube 1.5 cm over the goal wall when the goal's perimeter is 2 cm.", TZ + 0.10 + 0.055, 0.02),
+        (
+            "tool-held-object-hits-goal-wall",
+            "Carrying a cube at a height where the fingers clear the goal wall by 1 cm but the cube's bottom is 1.5 cm below its top.",
+            TZ + 0.10 + 0.025,
+            0.0,
+        ),
+        (
+            "tool-held-object-over-goal-wall",
+            "Carrying a cube 2 cm over the goal wall, then down into the open box.",
+            TZ + 0.10 + 0.06,
+            0.0,
+        ),
+        (
+            "tool-held-object-in-wall-perimeter",
+            "Carrying a cube 1.5 cm over the goal wall when the goal's perimeter is 2 cm.",
+            TZ + 0.10 + 0.055,
+            0.02,
+        ),
     ] {
         let mut f = fixture(
             name,
             desc,
             "kuka_iiwa14",
             scene(vec![goal(m)]),
-            tool(&[[0.45, -0.1, travel, 0.0], [0.6, 0.2, travel, 0.0], [0.6, 0.2, inside, 0.0]]),
+            tool(&[
+                [0.45, -0.1, travel, 0.0],
+                [0.6, 0.2, travel, 0.0],
+                [0.6, 0.2, inside, 0.0],
+            ]),
         );
         f.held = Some(held.clone());
         fx.push(f);
     }
-    let target = bx("blue-square-2", BoxKind::Object, [0.5, -0.2], [0.04, 0.04, 0.04], 0.02);
+    let target = bx(
+        "blue-square-2",
+        BoxKind::Object,
+        [0.5, -0.2],
+        [0.04, 0.04, 0.04],
+        0.02,
+    );
     let mut f = fixture(
         "tool-grasp-descent-target-ignored",
         "Descent to grasp: the fingers close around the target, which the check ignores.",
@@ -265,7 +341,8 @@ fn main() {
     f.ignore = vec!["blue-square-2".into()];
     fx.push(f.clone());
     f.name = "tool-grasp-descent-target-not-ignored".into();
-    f.description = "The same descent with the target still in the scene: the fingers enter it.".into();
+    f.description =
+        "The same descent with the target still in the scene: the fingers enter it.".into();
     f.ignore.clear();
     fx.push(f);
     fx.push(fixture(
@@ -280,7 +357,17 @@ fn main() {
             "tool-graze-object",
             "Gripper passes diagonally over an object.",
             "kuka_iiwa14",
-            SceneSpec { table_z: TZ, table: None, boxes: vec![bx("green-square-1", BoxKind::Object, [0.6, 0.0], [0.05, 0.05, 0.05], 0.0)] },
+            SceneSpec {
+                table_z: TZ,
+                table: None,
+                boxes: vec![bx(
+                    "green-square-1",
+                    BoxKind::Object,
+                    [0.6, 0.0],
+                    [0.05, 0.05, 0.05],
+                    0.0,
+                )],
+            },
             tool(&[[0.5, -0.2, TZ + 0.12, 0.0], [0.7, 0.2, TZ + 0.10, 0.3]]),
         ),
         "green-square-1",
@@ -291,7 +378,17 @@ fn main() {
             "tool-graze-hand",
             "Gripper passes beside a hand.",
             "kuka_iiwa14",
-            SceneSpec { table_z: TZ, table: None, boxes: vec![bx("hand-1", BoxKind::Hand, [0.55, 0.0], [0.08, 0.18, 0.05], 0.0)] },
+            SceneSpec {
+                table_z: TZ,
+                table: None,
+                boxes: vec![bx(
+                    "hand-1",
+                    BoxKind::Hand,
+                    [0.55, 0.0],
+                    [0.08, 0.18, 0.05],
+                    0.0,
+                )],
+            },
             tool(&[[0.7, -0.3, TZ + 0.05, 0.0], [0.72, 0.3, TZ + 0.08, 0.0]]),
         ),
         "hand-1",
@@ -307,10 +404,22 @@ fn main() {
     };
     let sweep: Vec<Vec<f64>> = (0..=4).map(|i| rot(0.2 * i as f64)).collect();
     // A tall obstacle where the elbow passes (computed by FK), far from the tool.
-    let elbow = iiwa.link_pose(&rot(0.6), "link_4").unwrap().translation.vector;
+    let elbow = iiwa
+        .link_pose(&rot(0.6), "link_4")
+        .unwrap()
+        .translation
+        .vector;
     let tool_r = iiwa.arms()[0].fk(&home).translation.vector.xy().norm();
     println!("elbow at {elbow:?}; tool radius {tool_r:.3}");
-    let tall = |h: f64| bx("tall-bottle", BoxKind::Object, [elbow.x, elbow.y], [0.06, 0.06, h], 0.02);
+    let tall = |h: f64| {
+        bx(
+            "tall-bottle",
+            BoxKind::Object,
+            [elbow.x, elbow.y],
+            [0.06, 0.06, h],
+            0.02,
+        )
+    };
     let tall_h = elbow.z - TZ + 0.05;
     fx.push(fixture(
         "arm-elbow-hits-tall-obstacle",
@@ -324,7 +433,12 @@ fn main() {
             let q = rot(0.05 * i as f64);
             let p = iiwa.arms()[0].fk(&q);
             let x = p.rotation * nalgebra::Vector3::x();
-            [p.translation.x, p.translation.y, p.translation.z, x.y.atan2(x.x)]
+            [
+                p.translation.x,
+                p.translation.y,
+                p.translation.z,
+                x.y.atan2(x.x),
+            ]
         })
         .collect();
     fx.push(fixture(
@@ -346,8 +460,20 @@ fn main() {
         "Shoulder sweep over a table with low objects away from the tool's arc.",
         "kuka_iiwa14",
         scene(vec![
-            bx("blue-square-1", BoxKind::Object, [0.8, -0.4], [0.04, 0.04, 0.03], 0.02),
-            bx("red-square-2", BoxKind::Object, [0.6, -0.3], [0.04, 0.04, 0.03], 0.02),
+            bx(
+                "blue-square-1",
+                BoxKind::Object,
+                [0.8, -0.4],
+                [0.04, 0.04, 0.03],
+                0.02,
+            ),
+            bx(
+                "red-square-2",
+                BoxKind::Object,
+                [0.6, -0.3],
+                [0.04, 0.04, 0.03],
+                0.02,
+            ),
         ]),
         FixturePath::Arm(sweep.clone()),
     ));
@@ -356,7 +482,17 @@ fn main() {
             "arm-graze-forearm",
             "Shoulder sweep past a tall post beside the forearm's path.",
             "kuka_iiwa14",
-            SceneSpec { table_z: TZ, table: None, boxes: vec![bx("post", BoxKind::Object, [elbow.x + 0.35, elbow.y + 0.05], [0.04, 0.04, 0.9], 0.0)] },
+            SceneSpec {
+                table_z: TZ,
+                table: None,
+                boxes: vec![bx(
+                    "post",
+                    BoxKind::Object,
+                    [elbow.x + 0.35, elbow.y + 0.05],
+                    [0.04, 0.04, 0.9],
+                    0.0,
+                )],
+            },
             FixturePath::Arm(sweep.clone()),
         ),
         "post",
@@ -375,10 +511,20 @@ fn main() {
         "arm-held-object-lowered-onto-box",
         "Lowering the arm while holding a cube onto a box below the tool.",
         "kuka_iiwa14",
-        scene(vec![bx("crate", BoxKind::Object, [under.x, under.y], [0.1, 0.1, 0.02], 0.0)]),
+        scene(vec![bx(
+            "crate",
+            BoxKind::Object,
+            [under.x, under.y],
+            [0.1, 0.1, 0.02],
+            0.0,
+        )]),
         FixturePath::Arm(lower.clone()),
     );
-    f.held = Some(HeldSpec { name: "cube".into(), size: [0.04, 0.04, 0.04], offset: [0.0, 0.0, 0.0] });
+    f.held = Some(HeldSpec {
+        name: "cube".into(),
+        size: [0.04, 0.04, 0.04],
+        offset: [0.0, 0.0, 0.0],
+    });
     fx.push(f);
     // Self-collision: fold the elbow fully.
     let mut fold = home.clone();
@@ -389,7 +535,11 @@ fn main() {
         "arm-folds-into-itself",
         "Folding elbow and wrist to their limits: a wrist/gripper link meets the upper arm.",
         "kuka_iiwa14",
-        SceneSpec { table_z: -1.5, table: None, boxes: vec![] },
+        SceneSpec {
+            table_z: -1.5,
+            table: None,
+            boxes: vec![],
+        },
         FixturePath::Arm(vec![home.clone(), fold]),
     ));
 
@@ -400,14 +550,31 @@ fn main() {
     let r2 = cob.joint_index("arm_right_2_joint").unwrap();
     let l2 = cob.joint_index("arm_left_2_joint").unwrap();
     let _ = (r2, l2);
-    let cob_scene = SceneSpec { table_z: 0.75, table: Some(TableSpec { min: [0.4, -0.6], max: [1.2, 0.6], margin: 0.0 }), boxes: vec![] };
-    let cob_air = SceneSpec { table_z: 0.0, table: None, boxes: vec![] };
+    let cob_scene = SceneSpec {
+        table_z: 0.75,
+        table: Some(TableSpec {
+            min: [0.4, -0.6],
+            max: [1.2, 0.6],
+            margin: 0.0,
+        }),
+        boxes: vec![],
+    };
+    let cob_air = SceneSpec {
+        table_z: 0.0,
+        table: None,
+        boxes: vec![],
+    };
     let _ = l1;
     // The right gripper reaching over to where the left gripper is: search a
     // grid of right-arm postures by FK, keep the first whose straight joint
     // path from home makes the right arm hit the left arm (dense reference).
     let arm_r = cob.arm("right").unwrap();
-    let left_tcp = cob.arm("left").unwrap().fk(&cob.arm("left").unwrap().extract(&ch)).translation.vector;
+    let left_tcp = cob
+        .arm("left")
+        .unwrap()
+        .fk(&cob.arm("left").unwrap().extract(&ch))
+        .translation
+        .vector;
     let steps = [-1.2, -0.8, -0.4, 0.0, 0.4, 0.8, 1.2];
     let mut found = None;
     'search: for a in steps {
@@ -422,11 +589,19 @@ fn main() {
                     if (tcp - left_tcp).norm() > 0.12 {
                         continue;
                     }
-                    let f = fixture("probe", "", "care_o_bot4", cob_air.clone(), FixturePath::Robot(vec![ch.clone(), q.clone()]));
+                    let f = fixture(
+                        "probe",
+                        "",
+                        "care_o_bot4",
+                        cob_air.clone(),
+                        FixturePath::Robot(vec![ch.clone(), q.clone()]),
+                    );
                     let r = dense_of(&f, &DenseSettings::default());
                     if let Some(h) = &r.first_hit {
                         println!("  probe {:?}: {} vs {}", [a, b, c, d], h.1, h.2);
-                        if h.1.contains("right") && h.2.contains("left") || h.1.contains("left") && h.2.contains("right") {
+                        if h.1.contains("right") && h.2.contains("left")
+                            || h.1.contains("left") && h.2.contains("right")
+                        {
                             found = Some(q);
                             break 'search;
                         }
@@ -436,7 +611,12 @@ fn main() {
         }
     }
     let q_cross = found.expect("no crossing posture found");
-    let part = |s: f64| -> Vec<f64> { ch.iter().zip(&q_cross).map(|(a, b)| a + s * (b - a)).collect() };
+    let part = |s: f64| -> Vec<f64> {
+        ch.iter()
+            .zip(&q_cross)
+            .map(|(a, b)| a + s * (b - a))
+            .collect()
+    };
     fx.push(fixture(
         "cob-arms-cross",
         "Care-O-bot: the right arm reaches over to the left gripper (posture found by FK) and the arms collide.",
@@ -446,7 +626,13 @@ fn main() {
     ));
     let mut frac = 0.9;
     while frac > 0.05 {
-        let f = fixture("probe", "", "care_o_bot4", cob_air.clone(), FixturePath::Robot(vec![ch.clone(), part(frac)]));
+        let f = fixture(
+            "probe",
+            "",
+            "care_o_bot4",
+            cob_air.clone(),
+            FixturePath::Robot(vec![ch.clone(), part(frac)]),
+        );
         if !dense_of(&f, &DenseSettings::default()).collides() {
             break;
         }
@@ -460,19 +646,41 @@ fn main() {
         cob_air.clone(),
         FixturePath::Robot(vec![ch.clone(), part(0.5 * frac), part(frac)]),
     ));
-    let cob_tcp = cob.arm("right").unwrap().fk(&cob.arm("right").unwrap().extract(&ch)).translation.vector;
+    let cob_tcp = cob
+        .arm("right")
+        .unwrap()
+        .fk(&cob.arm("right").unwrap().extract(&ch))
+        .translation
+        .vector;
     for (name, gap, desc) in [
-        ("cob-right-tool-hand-perimeter-entered", 0.0, "Right gripper descends to its home height, 0.15 m (TCP) over a hand's top (perimeter 0.10 m); the gripper body reaches below the TCP."),
-        ("cob-right-tool-hand-perimeter-kept", 0.05, "Right gripper descends to 0.20 m (TCP) over a hand's top (perimeter 0.10 m)."),
+        (
+            "cob-right-tool-hand-perimeter-entered",
+            0.0,
+            "Right gripper descends to its home height, 0.15 m (TCP) over a hand's top (perimeter 0.10 m); the gripper body reaches below the TCP.",
+        ),
+        (
+            "cob-right-tool-hand-perimeter-kept",
+            0.05,
+            "Right gripper descends to 0.20 m (TCP) over a hand's top (perimeter 0.10 m).",
+        ),
     ] {
         let mut s = cob_scene.clone();
-        s.boxes.push(bx("hand-1", BoxKind::Hand, [cob_tcp.x, cob_tcp.y], [0.08, 0.18, 0.05], 0.10));
+        s.boxes.push(bx(
+            "hand-1",
+            BoxKind::Hand,
+            [cob_tcp.x, cob_tcp.y],
+            [0.08, 0.18, 0.05],
+            0.10,
+        ));
         let mut f = fixture(
             name,
             desc,
             "care_o_bot4",
             s,
-            tool(&[[cob_tcp.x, cob_tcp.y - 0.1, cob_tcp.z + 0.1 + gap, 0.0], [cob_tcp.x, cob_tcp.y, cob_tcp.z + gap, 0.0]]),
+            tool(&[
+                [cob_tcp.x, cob_tcp.y - 0.1, cob_tcp.z + 0.1 + gap, 0.0],
+                [cob_tcp.x, cob_tcp.y, cob_tcp.z + gap, 0.0],
+            ]),
         );
         f.arm = Some("right".into());
         fx.push(f);
@@ -486,13 +694,27 @@ fn main() {
         })
         .collect();
     let _ = right;
-    let wrist = cob.link_pose(&cob_sweep[2], "arm_right_5_link").unwrap().translation.vector;
+    let wrist = cob
+        .link_pose(&cob_sweep[2], "arm_right_5_link")
+        .unwrap()
+        .translation
+        .vector;
     graze(
         fixture(
             "cob-graze-right-arm",
             "Right shoulder sweep outward past a post.",
             "care_o_bot4",
-            SceneSpec { table_z: 0.75, table: None, boxes: vec![bx("post", BoxKind::Object, [wrist.x + 0.05, wrist.y - 0.15], [0.04, 0.04, wrist.z - 0.75 + 0.1], 0.0)] },
+            SceneSpec {
+                table_z: 0.75,
+                table: None,
+                boxes: vec![bx(
+                    "post",
+                    BoxKind::Object,
+                    [wrist.x + 0.05, wrist.y - 0.15],
+                    [0.04, 0.04, wrist.z - 0.75 + 0.1],
+                    0.0,
+                )],
+            },
             FixturePath::Robot(cob_sweep.clone()),
         ),
         "post",
@@ -516,7 +738,11 @@ fn main() {
         if let Some(a) = case.attached {
             f.held = Some(HeldSpec {
                 name: a.name,
-                size: [2.0 * a.half_extents[0], 2.0 * a.half_extents[1], 2.0 * a.half_extents[2]],
+                size: [
+                    2.0 * a.half_extents[0],
+                    2.0 * a.half_extents[1],
+                    2.0 * a.half_extents[2],
+                ],
                 offset: [0.0, 0.0, 0.02],
             });
         }
@@ -531,7 +757,10 @@ fn main() {
         if settle(&mut f) {
             write(&out_dir, &f);
         } else {
-            println!("  !! fast check disagrees with dense on {}; not written", f.name);
+            println!(
+                "  !! fast check disagrees with dense on {}; not written",
+                f.name
+            );
             bad += 1;
         }
     }

@@ -64,10 +64,18 @@ fn random_box(rng: &mut impl Rng, i: usize, low: bool) -> SceneBox {
         _ => [0.0, 0.02, 0.06][rng.random_range(0..3)],
     };
     let size = if kind == BoxKind::Goal {
-        [rng.random_range(0.08..0.25), rng.random_range(0.08..0.25), rng.random_range(0.04..0.15)]
+        [
+            rng.random_range(0.08..0.25),
+            rng.random_range(0.08..0.25),
+            rng.random_range(0.04..0.15),
+        ]
     } else {
         let hmax = if low { 0.12 } else { 0.6 };
-        [rng.random_range(0.02..0.12), rng.random_range(0.02..0.12), rng.random_range(0.02..hmax)]
+        [
+            rng.random_range(0.02..0.12),
+            rng.random_range(0.02..0.12),
+            rng.random_range(0.02..hmax),
+        ]
     };
     SceneBox {
         name: format!("box-{i}"),
@@ -91,7 +99,9 @@ fn table() -> Option<TableSpec> {
 pub fn random_case(model: &RobotModel, seed: u64) -> BenchCase {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let n_boxes = rng.random_range(1..8);
-    let boxes = (0..n_boxes).map(|i| random_box(&mut rng, i, false)).collect();
+    let boxes = (0..n_boxes)
+        .map(|i| random_box(&mut rng, i, false))
+        .collect();
     let dof = model.dof();
     let mut q: Vec<f64> = model.home().to_vec();
     for v in q.iter_mut() {
@@ -109,7 +119,11 @@ pub fn random_case(model: &RobotModel, seed: u64) -> BenchCase {
     debug_assert_eq!(path[0].len(), dof);
     let attached = rng.random_bool(0.3).then(|| Attachment {
         name: "held".into(),
-        half_extents: [0.02, rng.random_range(0.02..0.06), rng.random_range(0.02..0.05)],
+        half_extents: [
+            0.02,
+            rng.random_range(0.02..0.06),
+            rng.random_range(0.02..0.05),
+        ],
         pose_tool_object: pose_from_xyz_rpy([0.0, 0.0, 0.02], [0.0, 0.0, 0.0]),
     });
     BenchCase {
@@ -141,10 +155,17 @@ pub fn cross_check(
                 attached: case.attached.clone(),
                 ..PathOptions::default()
             };
-            let fast = !geometry.check_joint_path(&scene, &case.path, &opts)?.is_free();
-            let dense =
-                dense_joint_path(&geometry, &scene, &case.path, &opts, &DenseSettings::default())?
-                    .collides();
+            let fast = !geometry
+                .check_joint_path(&scene, &case.path, &opts)?
+                .is_free();
+            let dense = dense_joint_path(
+                &geometry,
+                &scene,
+                &case.path,
+                &opts,
+                &DenseSettings::default(),
+            )?
+            .collides();
             Ok((fast, dense, s))
         })
         .collect();
@@ -221,7 +242,11 @@ pub fn bench_case(model: &RobotModel, seed: u64) -> Result<(Scene, Vec<Vec<f64>>
 
 /// Shape-pair distance queries per second: every robot collider against
 /// every part of the bench scene, at random configurations.
-pub fn pair_queries_per_s(model: &RobotModel, scene: &Scene, seed: u64) -> Result<f64, CollisionError> {
+pub fn pair_queries_per_s(
+    model: &RobotModel,
+    scene: &Scene,
+    seed: u64,
+) -> Result<f64, CollisionError> {
     let geometry = RobotGeometry::new(model)?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut count = 0u64;

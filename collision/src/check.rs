@@ -245,7 +245,12 @@ impl RobotGeometry {
             .collect();
         let dq: Vec<f64> = path
             .windows(2)
-            .flat_map(|w| w[0].iter().zip(&w[1]).map(|(a, b)| (b - a).abs()).collect::<Vec<_>>())
+            .flat_map(|w| {
+                w[0].iter()
+                    .zip(&w[1])
+                    .map(|(a, b)| (b - a).abs())
+                    .collect::<Vec<_>>()
+            })
             .collect();
         let shapes: Vec<SharedShape> = bodies.iter().map(|b| b.shape.clone()).collect();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
@@ -340,7 +345,11 @@ impl RobotGeometry {
         if let Some(a) = &opts.attached {
             a.validate()?;
             local.push(a.pose_tool_object);
-            shapes.push(SharedShape::cuboid(a.half_extents[0], a.half_extents[1], a.half_extents[2]));
+            shapes.push(SharedShape::cuboid(
+                a.half_extents[0],
+                a.half_extents[1],
+                a.half_extents[2],
+            ));
             names.push(format!("held:{}", a.name));
         }
         let reach: Vec<f64> = shapes
@@ -405,10 +414,14 @@ impl RobotGeometry {
         let arm = self.arm_of(opts)?;
         let tool_link = self.model.link_index(&arm.tool_link)?;
         let shape = SharedShape::cuboid(a.half_extents[0], a.half_extents[1], a.half_extents[2]);
-        let body = self.body(tool_link, format!("held:{}", a.name), shape, a.pose_tool_object);
+        let body = self.body(
+            tool_link,
+            format!("held:{}", a.name),
+            shape,
+            a.pose_tool_object,
+        );
         Ok(Some((body, tool_link)))
     }
-
 }
 
 /// Obstacles a check sees: all but the ignored ones and the held object.
@@ -417,7 +430,8 @@ pub(crate) fn active(scene: &Scene, opts: &PathOptions) -> Vec<bool> {
         .obstacles
         .iter()
         .map(|o| {
-            !opts.ignore.contains(&o.name) && opts.attached.as_ref().is_none_or(|a| a.name != o.name)
+            !opts.ignore.contains(&o.name)
+                && opts.attached.as_ref().is_none_or(|a| a.name != o.name)
         })
         .collect()
 }
@@ -560,4 +574,3 @@ impl Sweep for ToolSweep<'_> {
         &self.poses
     }
 }
-

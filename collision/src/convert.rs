@@ -17,7 +17,10 @@ use parry3d::math::{Pose as PPose, Rotation as PRot, Vector as PVec};
 pub(crate) fn to_parry(pose: &Pose) -> PPose {
     let t = &pose.translation.vector;
     let q = &pose.rotation.quaternion().coords; // stored (i, j, k, w)
-    PPose::from_parts(PVec::new(t.x, t.y, t.z), PRot::from_xyzw(q.x, q.y, q.z, q.w))
+    PPose::from_parts(
+        PVec::new(t.x, t.y, t.z),
+        PRot::from_xyzw(q.x, q.y, q.z, q.w),
+    )
 }
 
 /// parry pose → nalgebra pose (exact).

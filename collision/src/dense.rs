@@ -112,7 +112,11 @@ fn sample<S: Sweep>(
         for g in &p.groups {
             let s1 = p.shapes[g.body].as_ref();
             let p1 = &poses[g.body];
-            let threshold = if dense.stop_at_first { 0.0 } else { out.min_slack };
+            let threshold = if dense.stop_at_first {
+                0.0
+            } else {
+                out.min_slack
+            };
             let consider = |slack: f64, other: &str, out: &mut DenseResult| {
                 if slack < out.min_slack {
                     out.min_slack = slack;

@@ -21,7 +21,6 @@
 //! not only at samples. A hit is reported when a pair comes within
 //! [`CheckSettings::tolerance`] (0.1 mm) of its margin.
 
-
 mod bench;
 mod check;
 mod convert;
@@ -32,7 +31,6 @@ mod fixture;
 mod robot;
 mod scene;
 mod sweep;
-
 
 pub use bench::{
     BenchCase, CollisionBenchReport, CrossCheck, bench_case, collision_benchmark, cross_check,
@@ -47,4 +45,6 @@ pub use fixture::{
 };
 
 pub use robot::{Attachment, RobotGeometry};
-pub use scene::{BoxKind, GOAL_WALL, Obstacle, Scene, SceneBox, SceneSpec, TABLE_THICKNESS, TableSpec};
+pub use scene::{
+    BoxKind, GOAL_WALL, Obstacle, Scene, SceneBox, SceneSpec, TABLE_THICKNESS, TableSpec,
+};

@@ -56,12 +56,21 @@ impl Attachment {
     }
 
     pub(crate) fn validate(&self) -> Result<(), CollisionError> {
-        if self.half_extents.iter().any(|h| !(h.is_finite() && *h > 0.0)) {
+        if self
+            .half_extents
+            .iter()
+            .any(|h| !(h.is_finite() && *h > 0.0))
+        {
             return Err(path_err("attached.half_extents", "must be finite and > 0"));
         }
         let t = self.pose_tool_object.translation.vector;
         if !(t.iter().all(|v| v.is_finite())
-            && self.pose_tool_object.rotation.coords.iter().all(|v| v.is_finite()))
+            && self
+                .pose_tool_object
+                .rotation
+                .coords
+                .iter()
+                .all(|v| v.is_finite()))
         {
             return Err(path_err("attached.pose_tool_object", "must be finite"));
         }
@@ -186,8 +195,8 @@ impl RobotGeometry {
         let ancestors = self.link_ancestors[link];
         let sphere = shape.compute_local_bounding_sphere();
         let centre_shape = sphere.center;
-        let centre_link = pose_link_shape
-            * Point3::new(centre_shape.x, centre_shape.y, centre_shape.z);
+        let centre_link =
+            pose_link_shape * Point3::new(centre_shape.x, centre_shape.y, centre_shape.z);
         let centre_base = self.ref_poses[link] * centre_link;
         let mut chain: Vec<usize> = (0..self.model.dof())
             .filter(|&j| ancestors & (1 << j) != 0)
@@ -236,7 +245,11 @@ impl RobotGeometry {
         if q.len() != self.model.dof() {
             return Err(path_err(
                 field,
-                format!("has {} values, the robot has {} joints", q.len(), self.model.dof()),
+                format!(
+                    "has {} values, the robot has {} joints",
+                    q.len(),
+                    self.model.dof()
+                ),
             ));
         }
         for (j, (v, joint)) in q.iter().zip(self.model.joints()).enumerate() {
@@ -286,8 +299,10 @@ fn parry_shape(shape: &afford_kinematics::Shape) -> (SharedShape, Pose) {
         S::Capsule {
             radius,
             half_length,
-        } => (SharedShape::capsule_z(half_length, radius), Pose::identity()),
+        } => (
+            SharedShape::capsule_z(half_length, radius),
+            Pose::identity(),
+        ),
         S::Sphere { radius } => (SharedShape::ball(radius), Pose::identity()),
     }
 }
-

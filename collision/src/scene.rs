@@ -170,8 +170,14 @@ impl Scene {
                     ([0.5 * sx, 0.5 * sy, w], [0.0, 0.0, w]),
                     ([w, 0.5 * sy, 0.5 * sz], [0.5 * sx - w, 0.0, 0.5 * sz]),
                     ([w, 0.5 * sy, 0.5 * sz], [-0.5 * sx + w, 0.0, 0.5 * sz]),
-                    ([0.5 * sx - GOAL_WALL, w, 0.5 * sz], [0.0, 0.5 * sy - w, 0.5 * sz]),
-                    ([0.5 * sx - GOAL_WALL, w, 0.5 * sz], [0.0, -0.5 * sy + w, 0.5 * sz]),
+                    (
+                        [0.5 * sx - GOAL_WALL, w, 0.5 * sz],
+                        [0.0, 0.5 * sy - w, 0.5 * sz],
+                    ),
+                    (
+                        [0.5 * sx - GOAL_WALL, w, 0.5 * sz],
+                        [0.0, -0.5 * sy + w, 0.5 * sz],
+                    ),
                 ];
                 let (c, s) = (b.yaw.cos(), b.yaw.sin());
                 for (half, local) in pieces {
@@ -184,7 +190,12 @@ impl Scene {
                 }
             } else {
                 let half = [0.5 * sx, 0.5 * sy, 0.5 * sz];
-                scene.push_part(obstacle, half, [b.centre[0], b.centre[1], z0 + 0.5 * sz], b.yaw);
+                scene.push_part(
+                    obstacle,
+                    half,
+                    [b.centre[0], b.centre[1], z0 + 0.5 * sz],
+                    b.yaw,
+                );
             }
         }
         Ok(scene)

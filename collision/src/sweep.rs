@@ -90,6 +90,7 @@ pub(crate) fn run(
         }
         stats.evaluations += 1;
         let poses = sweep.poses_at(t).to_vec();
+        #[allow(clippy::needless_range_loop)] // g indexes groups and due alike
         for g in 0..b.groups.len() {
             if due[g] > t {
                 continue;
@@ -101,11 +102,7 @@ pub(crate) fn run(
                 if collisions.len() >= settings.max_reports.max(1) {
                     return (finish(collisions), stats);
                 }
-                due[g] = if resume >= end {
-                    f64::INFINITY
-                } else {
-                    resume
-                };
+                due[g] = if resume >= end { f64::INFINITY } else { resume };
             } else {
                 due[g] = next_due(sweep, g, t, near.slack, n);
             }
@@ -196,10 +193,7 @@ fn nearest(
                 let d = distance(pose, shape, &part.pose, part.shape.as_ref());
                 let slack = d - b.scene.obstacles[part.obstacle].margin;
                 if slack < best.slack {
-                    best = Nearest {
-                        slack,
-                                partner: i,
-                    };
+                    best = Nearest { slack, partner: i };
                 }
             }
             best
@@ -260,12 +254,9 @@ fn describe(
         stats.pair_queries += 1;
         let s1 = b.shapes[group.body].as_ref();
         match group.partner {
-            Partner::Body(o) => signed_distance(
-                &poses[group.body],
-                s1,
-                &poses[o],
-                b.shapes[o].as_ref(),
-            ),
+            Partner::Body(o) => {
+                signed_distance(&poses[group.body], s1, &poses[o], b.shapes[o].as_ref())
+            }
             Partner::Scene => {
                 let p = &b.scene.parts[partner];
                 signed_distance(&poses[group.body], s1, &p.pose, p.shape.as_ref())

@@ -12,7 +12,10 @@ fn fast_check_never_misses_a_dense_collision() {
     let cc = cross_check(&model, 1000, 42).unwrap();
     println!("{cc:?} in {:.1} s", t.elapsed().as_secs_f64());
     assert_eq!(cc.paths, 1000);
-    assert!(cc.dense_collisions > 100, "too few colliding cases to mean anything");
+    assert!(
+        cc.dense_collisions > 100,
+        "too few colliding cases to mean anything"
+    );
     assert!(cc.paths - cc.dense_collisions > 100, "too few free cases");
     assert_eq!(cc.missed, 0, "missed: {:?}", cc.missed_seeds);
 }

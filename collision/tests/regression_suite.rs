@@ -10,7 +10,12 @@ use afford_collision::{fixture_files, run_fixture};
 fn collision_regression_suite() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/collision");
     let files = fixture_files(&dir).expect("fixture directory");
-    assert!(files.len() >= 30, "only {} fixtures in {}", files.len(), dir.display());
+    assert!(
+        files.len() >= 30,
+        "only {} fixtures in {}",
+        files.len(),
+        dir.display()
+    );
     let mut failed = Vec::new();
     for f in &files {
         match run_fixture(f) {
