@@ -10,7 +10,9 @@ use rand_chacha::ChaCha8Rng;
 
 fn timing(c: &mut Criterion) {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let paths: Vec<Vec<Vec<f64>>> = (0..8).map(|_| random_smooth_path(&mut rng, 7, 12)).collect();
+    let paths: Vec<Vec<Vec<f64>>> = (0..8)
+        .map(|_| random_smooth_path(&mut rng, 7, 12))
+        .collect();
     let limits = iiwa_limits();
     let mut group = c.benchmark_group("timing");
     group.sample_size(30);

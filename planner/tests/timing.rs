@@ -3,8 +3,8 @@
 
 use afford_planner::timing::bench::{iiwa_limits, random_smooth_path};
 use afford_planner::timing::{
-    Hand, JointLimits, JointTrajectory, Proximity, SeparationSettings, Timing, TimingError,
-    TimingSettings, TimingStatus, time_parameterize,
+    Hand, JointLimits, JointTrajectory, Program, Proximity, SeparationSettings, Timing,
+    TimingError, TimingSettings, TimingStatus, time_parameterize,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -19,7 +19,9 @@ fn assert_within(trajectory: &JointTrajectory, limits: &JointLimits, scale: f64)
     for p in &trajectory.points {
         for j in 0..limits.velocity.len() {
             assert!(p.velocities[j].abs() <= limits.velocity[j] * scale * (1.0 + 1e-6));
-            assert!(p.accelerations[j].abs() <= limits.acceleration[j] * scale * scale * (1.0 + 1e-6));
+            assert!(
+                p.accelerations[j].abs() <= limits.acceleration[j] * scale * scale * (1.0 + 1e-6)
+            );
         }
     }
 }
@@ -70,7 +72,13 @@ fn random_paths_stay_within_limits_and_rest_at_both_ends() {
         assert_within(trajectory, &limits, 1.0);
         let (first, last) = (&trajectory.points[0], trajectory.points.last().unwrap());
         assert_eq!(first.time_from_start, 0.0);
-        assert!(first.velocities.iter().chain(&last.velocities).all(|v| v.abs() < 1e-9));
+        assert!(
+            first
+                .velocities
+                .iter()
+                .chain(&last.velocities)
+                .all(|v| v.abs() < 1e-9)
+        );
         for (q, w) in first.positions.iter().zip(&path[0]) {
             assert!((q - w).abs() < 1e-9);
         }
@@ -83,6 +91,38 @@ fn random_paths_stay_within_limits_and_rest_at_both_ends() {
             assert!(dt > 0.0 && dt <= 0.01 + 1e-12);
         }
     }
+}
+
+/// The LP's greatest profile and the SOCP's exact-time optimum coincide.
+#[test]
+fn greatest_profile_lp_equals_exact_time_socp() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let limits = iiwa_limits();
+    for _ in 0..4 {
+        let path = random_smooth_path(&mut rng, 7, 10);
+        let lp = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
+        let socp = time_parameterize(
+            &path,
+            &limits,
+            None,
+            &TimingSettings {
+                program: Program::ExactTime,
+                ..TimingSettings::default()
+            },
+        )
+        .unwrap();
+        let (t_lp, t_socp) = (solved(&lp).duration(), solved(&socp).duration());
+        assert!((t_lp - t_socp).abs() / t_socp < 1e-5, "LP {t_lp} SOCP {t_socp}");
+    }
+    let (path, limits, proximity) = planar_case();
+    let settings = TimingSettings {
+        program: Program::ExactTime,
+        ..TimingSettings::default()
+    };
+    let socp = time_parameterize(&path, &limits, Some(&proximity), &settings).unwrap();
+    let lp = time_parameterize(&path, &limits, Some(&proximity), &TimingSettings::default()).unwrap();
+    let (t_lp, t_socp) = (solved(&lp).duration(), solved(&socp).duration());
+    assert!((t_lp - t_socp).abs() / t_socp < 1e-5, "LP {t_lp} SOCP {t_socp}");
 }
 
 #[test]
@@ -164,7 +204,10 @@ fn hand_proximity_slows_the_tool_to_reduced_speed() {
         if d <= rule.reduced_speed_distance_m {
             fastest_near = fastest_near.max(speed);
             // The formula's cap (or the crawl floor) holds at every sample.
-            assert!(speed <= rule.tool_speed_cap(d) * (1.0 + 1e-6) + 1e-9, "{speed} at {d}");
+            assert!(
+                speed <= rule.tool_speed_cap(d) * (1.0 + 1e-6) + 1e-9,
+                "{speed} at {d}"
+            );
         } else {
             fastest_far = fastest_far.max(speed);
         }
@@ -187,7 +230,10 @@ fn zero_crawl_speed_refuses_a_path_inside_the_protective_distance() {
     proximity.rule.min_tool_speed_m_s = 0.0;
     let err = time_parameterize(&path, &limits, Some(&proximity), &TimingSettings::default())
         .unwrap_err();
-    assert!(matches!(err, TimingError::InsideProtectiveDistance { .. }), "{err}");
+    assert!(
+        matches!(err, TimingError::InsideProtectiveDistance { .. }),
+        "{err}"
+    );
 }
 
 #[test]
@@ -201,13 +247,20 @@ fn bad_input_is_an_error_not_a_panic() {
     let run = |path: &[Vec<f64>], limits: &JointLimits, settings: &TimingSettings| {
         time_parameterize(path, limits, None, settings)
     };
-    assert!(matches!(run(&[], &ok_limits, &settings), Err(TimingError::NoWaypoints)));
+    assert!(matches!(
+        run(&[], &ok_limits, &settings),
+        Err(TimingError::NoWaypoints)
+    ));
     assert!(matches!(
         run(&[vec![0.0, 0.0], vec![1.0]], &ok_limits, &settings),
         Err(TimingError::WaypointLength { index: 1, .. })
     ));
     assert!(matches!(
-        run(&[vec![0.0, f64::NAN], vec![1.0, 1.0]], &ok_limits, &settings),
+        run(
+            &[vec![0.0, f64::NAN], vec![1.0, 1.0]],
+            &ok_limits,
+            &settings
+        ),
         Err(TimingError::NonFinite { index: 0, .. })
     ));
     let zero = JointLimits {
@@ -222,7 +275,10 @@ fn bad_input_is_an_error_not_a_panic() {
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0],
     };
-    assert!(matches!(run(&path, &short, &settings), Err(TimingError::SizeMismatch { .. })));
+    assert!(matches!(
+        run(&path, &short, &settings),
+        Err(TimingError::SizeMismatch { .. })
+    ));
     for bad in [
         TimingSettings {
             speed_scale: 0.0,
@@ -241,7 +297,10 @@ fn bad_input_is_an_error_not_a_panic() {
             ..TimingSettings::default()
         },
     ] {
-        assert!(matches!(run(&path, &ok_limits, &bad), Err(TimingError::Setting { .. })));
+        assert!(matches!(
+            run(&path, &ok_limits, &bad),
+            Err(TimingError::Setting { .. })
+        ));
     }
     let proximity = Proximity {
         tool_positions: vec![[0.0; 3]],
@@ -331,4 +390,12 @@ fn export_reference_case() {
     let doc = serde_json::json!({"cases": cases});
     std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
     eprintln!("wrote {out}");
+}
+
+/// Prints the `afford bench timing --json` report (not run by default).
+#[test]
+#[ignore = "benchmark: run with --release -- --ignored --nocapture"]
+fn print_bench_report() {
+    let report = afford_planner::timing::timing_benchmark(&Default::default());
+    println!("{}", serde_json::to_string(&report).unwrap());
 }

@@ -15,12 +15,19 @@
 //!
 //! Both are polynomials in `θ` (degree 5 and 2) whose coefficients are linear
 //! in `(b_i, b_{i+1})`. A polynomial lies between the extremes of its
-//! Bernstein coefficients, so bounding each Bernstein coefficient bounds the
-//! whole segment, not just its end points: `α b_i + β b_{i+1} ≤ 1` rows,
-//! 6 + 6 per joint and segment (+ 6 for a tool-speed cap, same form with
-//! `‖p'(θ)‖²`). In the `(b_i, b_{i+1})` plane only the rows on the upper-right
-//! convex frontier of `{0} ∪ {(α, β)}` can be active (`b ≥ 0`); the others
-//! are dropped, leaving typically 1–4 rows per segment.
+//! Bernstein coefficients, so bounding Bernstein coefficients bounds the
+//! whole segment, not just its end points. Every row is then made
+//! *lattice-compatible*: a bound on one variable, or `α b_i + β b_{i+1} ≤ 1`
+//! with `α β ≤ 0` (see [`push_speed_rows`] for the velocity and tool-speed
+//! rows, [`push_lattice_row`] for acceleration rows with both coefficients
+//! positive, which occur where a joint turns round, `q' ≈ 0`). Such rows are
+//! closed under the componentwise maximum of two solutions, so the feasible
+//! set has a **greatest element** `b*`, and `b*` minimises every function
+//! decreasing in each `b_i`, the traversal time included (see [`topp`](super::topp)).
+//!
+//! In the `(b_i, b_{i+1})` plane only the rows on the upper-right convex
+//! frontier of `{0} ∪ {(α, β)}` can be active (`b ≥ 0`); the others are
+//! dropped, leaving typically 2–4 rows per segment.
 
 use super::spline::CubicSpline;
 
@@ -123,7 +130,8 @@ fn binomial(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
 }
 
-/// Rows `α b_i + β b_{i+1} ≤ 1` of segment `i`, appended to `rows`.
+/// Rows `α b_i + β b_{i+1} ≤ 1` of segment `i`, appended to `rows`, every
+/// one a single-variable bound (`α = 0` or `β = 0`) or opposite-signed.
 /// `vel_sq[j] = v_j²`, `acc[j] = A_j` (already scaled and margined);
 /// `tool` is the tool spline (same knots) and the squared cap on this segment.
 pub fn segment_rows(
@@ -149,20 +157,34 @@ pub fn segment_rows(
         let (bu, bw) = (bernstein(&u), bernstein(&w));
         for k in 0..3 {
             let (alpha, beta) = (bu[k] / acc[j], bw[k] / acc[j]);
-            rows.push((alpha, beta));
-            rows.push((-alpha, -beta));
+            push_lattice_row(alpha, beta, rows);
+            push_lattice_row(-alpha, -beta, rows);
         }
-        push_speed_rows(&square(&d1), vel_sq[j], rows);
+        let mut g = square(&d1);
+        g.iter_mut().for_each(|c| *c /= vel_sq[j]);
+        push_speed_rows(&g, rows);
     }
     if let Some((tool, cap_sq)) = tool {
-        let mut norm_sq = [0.0; 5];
+        let mut g = [0.0; 5];
         for d in 0..tool.dim() {
             let (d1, _) = derivatives_on_segment(tool, grid, i, d);
-            for (acc, v) in norm_sq.iter_mut().zip(square(&d1)) {
-                *acc += v;
+            for (acc, v) in g.iter_mut().zip(square(&d1)) {
+                *acc += v / cap_sq;
             }
         }
-        push_speed_rows(&norm_sq, cap_sq, rows);
+        push_speed_rows(&g, rows);
+    }
+}
+
+/// A row with both coefficients positive, `α b_i + β b_{i+1} ≤ 1`, is
+/// replaced by the two bounds `b_i, b_{i+1} ≤ 1/(α + β)`, which imply it and
+/// coincide with it where `b_i = b_{i+1}`; other rows are kept as they are.
+fn push_lattice_row(alpha: f64, beta: f64, rows: &mut Vec<(f64, f64)>) {
+    if alpha > 0.0 && beta > 0.0 {
+        rows.push((alpha + beta, 0.0));
+        rows.push((0.0, alpha + beta));
+    } else {
+        rows.push((alpha, beta));
     }
 }
 
@@ -176,20 +198,31 @@ fn square(p: &[f64; 3]) -> [f64; 5] {
     ]
 }
 
-/// Rows of `g(θ) b(θ) ≤ limit_sq` for a quartic `g ≥ 0`.
-fn push_speed_rows(g: &[f64; 5], limit_sq: f64, rows: &mut Vec<(f64, f64)>) {
-    // g(θ)(1 − θ) and g(θ) θ as degree-5 monomials.
+/// Bounds that imply `g(θ) b(θ) ≤ 1` on the whole segment for a quartic
+/// `g ≥ 0` (a squared speed over its squared limit). With `G_0, G_1` the
+/// end values of `g` (floored at 10⁻³ of its largest Bernstein coefficient)
+/// and `M` the largest Bernstein coefficient of
+/// `g(θ) [(1−θ)/G_0 + θ/G_1]`, the rows are `b_i ≤ 1/(M G_0)`,
+/// `b_{i+1} ≤ 1/(M G_1)`: then `g b(θ) ≤ g [(1−θ)/G_0 + θ/G_1]/M ≤ 1`.
+/// `M − 1 = O(Δs²)`, so the bounds are the end-point limits up to that.
+fn push_speed_rows(g: &[f64; 5], rows: &mut Vec<(f64, f64)>) {
+    let peak = bernstein(g).into_iter().fold(0.0_f64, f64::max);
+    if peak <= 0.0 {
+        return;
+    }
+    let floor = 1e-3 * peak;
+    let g0 = g[0].max(floor);
+    let g1 = g.iter().sum::<f64>().max(floor);
+    // g(θ) (1/G_0 + θ (1/G_1 − 1/G_0)) as a quintic.
+    let (c0, c1) = (1.0 / g0, 1.0 / g1 - 1.0 / g0);
     let mut f = [0.0; 6];
-    let mut h = [0.0; 6];
     for k in 0..5 {
-        f[k] += g[k];
-        f[k + 1] -= g[k];
-        h[k + 1] += g[k];
+        f[k] += g[k] * c0;
+        f[k + 1] += g[k] * c1;
     }
-    let (bf, bh) = (bernstein(&f), bernstein(&h));
-    for k in 0..6 {
-        rows.push((bf[k] / limit_sq, bh[k] / limit_sq));
-    }
+    let m = bernstein(&f).into_iter().fold(0.0_f64, f64::max);
+    rows.push((m * g0, 0.0));
+    rows.push((0.0, m * g1));
 }
 
 /// Keeps only the rows that can be active for `b ≥ 0`: the vertices of the
@@ -200,7 +233,7 @@ pub fn prune_rows(rows: &mut Vec<(f64, f64)>, scratch: &mut Vec<(f64, f64)>) {
         return;
     }
     rows.push((0.0, 0.0));
-    rows.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    rows.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
     // Upper hull, left to right (Andrew's monotone chain).
     scratch.clear();
     for &p in rows.iter() {

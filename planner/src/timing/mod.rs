@@ -81,4 +81,4 @@ pub use run::{
 };
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};
-pub use topp::SolverOutcome;
+pub use topp::{Program, SolverOutcome};

@@ -8,7 +8,7 @@ use super::grid::{self, PathGrid};
 use super::sample::{self, JointTrajectory, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{CubicSpline, chord_knots};
-use super::topp::{self, ProgramSettings, SegmentRows, SolverOutcome};
+use super::topp::{self, Program, ProgramSettings, SegmentRows, SolverOutcome};
 
 /// Per-joint limits of one arm.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -45,12 +45,16 @@ pub struct TimingSettings {
     pub rate_hz: f64,
     /// Global speed scale `k ∈ (0, 1]`, 1: velocity limits × k, acceleration × k².
     pub speed_scale: f64,
-    /// `w ≥ 0` of the smoothing term `w Σ (a_{i+1} − a_i)²`, 0 (pure minimum time).
+    /// `w ≥ 0` of the smoothing term `w Σ (a_{i+1} − a_i)²`, 0 (pure minimum
+    /// time). `w > 0` selects the SOCP form.
     pub smoothing_weight: f64,
     /// Relative margin taken off every limit inside the program, 1e-6.
     pub limit_margin: f64,
     /// Relative tolerance of the sample check, 1e-6.
     pub tolerance: f64,
+    /// The convex program: the LP for the greatest profile (default) or the
+    /// SOCP with the exact time objective; same optimum (see [`topp`](super::topp)).
+    pub program: Program,
     /// Clarabel's iteration limit, 100.
     pub max_iterations: u32,
     /// Clarabel's duality-gap tolerance (absolute and relative), 1e-7.
@@ -66,6 +70,7 @@ impl Default for TimingSettings {
             smoothing_weight: 0.0,
             limit_margin: 1e-6,
             tolerance: 1e-6,
+            program: Program::GreatestProfile,
             max_iterations: 100,
             solver_tolerance: 1e-7,
         }
@@ -314,6 +319,7 @@ pub fn time_parameterize(
         &grid,
         &rows,
         &ProgramSettings {
+            program: settings.program,
             smoothing_weight: settings.smoothing_weight,
             max_iterations: settings.max_iterations,
             tolerance: settings.solver_tolerance,

@@ -1,26 +1,40 @@
-//! The time-optimal speed profile as one second-order cone program, solved
-//! by Clarabel (`min ½xᵀPx + qᵀx  s.t.  Ax + s = h, s ∈ K`).
+//! The time-optimal speed profile as one convex program, solved by Clarabel
+//! (`min ½xᵀPx + qᵀx  s.t.  Ax + s = h, s ∈ K`).
 //!
-//! Variables, with `b_0 = b_N = 0` substituted (start and end at rest):
-//! `b_i = ṡ²(s_i)` and `c_i ≤ √b_i` for `i = 1…N−1`, and `d_i ≥ 1/(c_i + c_{i+1})`
-//! for `i = 0…N−1` (`c_0 = c_N = 0`):
+//! Both forms below have the variables `b_i = ṡ²(s_i)`, `i = 1…N−1`, with
+//! `b_0 = b_N = 0` substituted (start and end at rest), and the pruned
+//! linear rows `α_r b_i + β_r b_{i+1} ≤ 1` of [`grid`](super::grid) (ℝ₊ cone).
+//!
+//! **[`Program::GreatestProfile`] (default, an LP).** The rows are
+//! lattice-compatible, so the feasible set `F` has a greatest element `b*`
+//! (`b ≤ b*` for every `b ∈ F`). The exact discretised time
+//! `T(b) = Σ_i 2Δs_i/(√b_i + √b_{i+1})` decreases in every `b_i`, hence
+//! `T(b*) ≤ T(b)` on `F`: `b*` is time-optimal. It is also the unique
+//! maximiser of any positive weighting, so the program is
+//!
+//! ```text
+//! minimise    −Σ_i w_i b_i,   w_i = (Δs_{i−1} + Δs_i) / 2
+//! subject to  α_r b_i + β_r b_{i+1} ≤ 1
+//! ```
+//!
+//! `N − 1` variables and a few rows per segment, each coupling neighbours.
+//!
+//! **[`Program::ExactTime`] (an SOCP).** The time objective itself, after
+//! Verscheure et al. (2009) and Lipp & Boyd (2014), with `c_i ≤ √b_i` and
+//! `d_i ≥ 1/(c_i + c_{i+1})` (`c_0 = c_N = 0`):
 //!
 //! ```text
 //! minimise   Σ_i 2 Δs_i d_i                                   (= Σ_i Δt_i at the optimum)
-//! subject to α_r b_i + β_r b_{i+1} ≤ 1       for every kept row r of segment i  (ℝ₊)
+//! subject to α_r b_i + β_r b_{i+1} ≤ 1                        (ℝ₊)
 //!            ‖(2 c_i, b_i − 1)‖ ≤ b_i + 1     ⇔ c_i² ≤ b_i               (SOC₃)
 //!            ‖(2, d_i − c_i − c_{i+1})‖ ≤ d_i + c_i + c_{i+1}
 //!                                             ⇔ d_i (c_i + c_{i+1}) ≥ 1  (SOC₃)
 //! ```
 //!
-//! With constant `s̈` on a segment, `Δt_i = 2Δs_i / (√b_i + √b_{i+1})` exactly,
-//! so the objective is the exact traversal time (Verscheure et al. 2009; Lipp
-//! & Boyd 2014). Size: `3N − 2` variables, `2N − 1` three-dimensional cones
-//! and the pruned linear rows (see [`grid`](super::grid)); the acceleration
-//! `a_i = (b_{i+1} − b_i)/(2Δs_i)` is eliminated, and every row and cone
-//! couples only neighbouring grid points, so the KKT matrix is banded.
-//!
-//! An optional smoothing term `w Σ_i (a_{i+1} − a_i)²` enters `P`.
+//! `3N − 2` variables and `2N − 1` cones: same optimum (the tests check the
+//! durations agree), about 5× slower, kept as the reference form and for
+//! the smoothing term `w Σ_i (a_{i+1} − a_i)²`, `a_i = (b_{i+1} − b_i)/(2Δs_i)`,
+//! which enters `P` (with a smoothing weight the LP form is not used).
 
 use std::collections::BTreeMap;
 
@@ -28,7 +42,7 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::grid::PathGrid;
 
@@ -57,9 +71,21 @@ pub enum SolverOutcome {
     NumericalError,
 }
 
+/// Which convex program computes the profile (same optimum, see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Program {
+    /// The LP `max Σ w_i b_i` over the lattice-compatible rows.
+    #[default]
+    GreatestProfile,
+    /// The SOCP with the exact time objective.
+    ExactTime,
+}
+
 /// Solver knobs of the program.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProgramSettings {
+    pub program: Program,
     pub smoothing_weight: f64,
     pub max_iterations: u32,
     pub tolerance: f64,
@@ -83,13 +109,14 @@ pub fn solve_profile(
 ) -> ProfileSolution {
     let n = grid.segments();
     let inner = n - 1;
+    let socp = settings.program == Program::ExactTime || settings.smoothing_weight > 0.0;
     let b_col = |i: usize| (i >= 1 && i < n).then(|| i - 1);
     let c_col = |i: usize| (i >= 1 && i < n).then(|| inner + i - 1);
     let d_col = |i: usize| 2 * inner + i;
-    let vars = 2 * inner + n;
+    let vars = if socp { 2 * inner + n } else { inner };
 
     let lin = rows.rows.len();
-    let m = lin + 3 * inner + 3 * n;
+    let m = if socp { lin + 3 * inner + 3 * n } else { lin };
     let mut ti = Vec::with_capacity(2 * lin + 3 * inner + 5 * n);
     let mut tj = Vec::with_capacity(ti.capacity());
     let mut tv = Vec::with_capacity(ti.capacity());
@@ -113,50 +140,63 @@ pub fn solve_profile(
             h[r] = 1.0;
         }
     }
-    // SOC₃: s = (1 + b_i, b_i − 1, 2 c_i).
-    let mut row = lin;
-    for i in 1..n {
-        let (bc, cc) = (b_col(i).unwrap_or(0), c_col(i).unwrap_or(0));
-        push(row, bc, -1.0);
-        h[row] = 1.0;
-        push(row + 1, bc, -1.0);
-        h[row + 1] = -1.0;
-        push(row + 2, cc, -2.0);
-        row += 3;
-    }
-    // SOC₃: s = (d_i + c_i + c_{i+1}, d_i − c_i − c_{i+1}, 2).
-    for i in 0..n {
-        push(row, d_col(i), -1.0);
-        push(row + 1, d_col(i), -1.0);
-        for c in [c_col(i), c_col(i + 1)].into_iter().flatten() {
-            push(row, c, -1.0);
-            push(row + 1, c, 1.0);
-        }
-        h[row + 2] = 2.0;
-        row += 3;
-    }
-    let a = CscMatrix::new_from_triplets(m, vars, ti, tj, tv);
-
     let mut q = vec![0.0; vars];
-    for i in 0..n {
-        q[d_col(i)] = 2.0 * grid.step(i);
-    }
-    let p = smoothing_matrix(grid, settings.smoothing_weight, vars);
-
     let mut cones = Vec::with_capacity(1 + inner + n);
     if lin > 0 {
         cones.push(SupportedConeT::NonnegativeConeT(lin));
     }
-    cones.extend(std::iter::repeat_n(
-        SupportedConeT::SecondOrderConeT(3),
-        inner + n,
-    ));
+    if socp {
+        // SOC₃: s = (1 + b_i, b_i − 1, 2 c_i).
+        let mut row = lin;
+        for i in 1..n {
+            let (bc, cc) = (b_col(i).unwrap_or(0), c_col(i).unwrap_or(0));
+            push(row, bc, -1.0);
+            h[row] = 1.0;
+            push(row + 1, bc, -1.0);
+            h[row + 1] = -1.0;
+            push(row + 2, cc, -2.0);
+            row += 3;
+        }
+        // SOC₃: s = (d_i + c_i + c_{i+1}, d_i − c_i − c_{i+1}, 2).
+        for i in 0..n {
+            push(row, d_col(i), -1.0);
+            push(row + 1, d_col(i), -1.0);
+            for c in [c_col(i), c_col(i + 1)].into_iter().flatten() {
+                push(row, c, -1.0);
+                push(row + 1, c, 1.0);
+            }
+            h[row + 2] = 2.0;
+            row += 3;
+        }
+        for i in 0..n {
+            q[d_col(i)] = 2.0 * grid.step(i);
+        }
+        cones.extend(std::iter::repeat_n(
+            SupportedConeT::SecondOrderConeT(3),
+            inner + n,
+        ));
+    } else {
+        for i in 1..n {
+            q[i - 1] = -0.5 * (grid.step(i - 1) + grid.step(i));
+        }
+    }
+    let a = CscMatrix::new_from_triplets(m, vars, ti, tj, tv);
+    let p = if socp {
+        smoothing_matrix(grid, settings.smoothing_weight, vars)
+    } else {
+        CscMatrix::zeros((vars, vars))
+    };
 
     let clarabel_settings = DefaultSettingsBuilder::default()
         .verbose(false)
         .max_iter(settings.max_iterations)
         .tol_gap_abs(settings.tolerance)
         .tol_gap_rel(settings.tolerance)
+        // The LP's rows are normalised (right-hand sides 1, coefficients of
+        // order 1/v², 1/(A Δs)): equilibration and iterative refinement
+        // cost more than half the solve and change no figure we use.
+        .equilibrate_enable(socp)
+        .iterative_refinement_enable(socp)
         .build()
         .expect("every Clarabel setting used here has a valid value");
     let mut solver = match DefaultSolver::new(&p, &q, &a, &h, &cones, clarabel_settings) {
