@@ -15,6 +15,7 @@
 //! | oracle | [`oracle`] | — (BFS, for measurement) |
 //! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
+//! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
 //! | pipeline | [`plan`] | Fig. 2 |
 //!
 //! ```
@@ -27,8 +28,10 @@
 
 pub mod affordance;
 pub mod bench;
+pub mod clearance;
 pub mod cql;
 pub mod error;
+pub mod geometry;
 pub mod grid;
 pub mod instruction;
 pub mod lift;

@@ -9,12 +9,16 @@
 //! throughout; its yaw puts the fingers across the object's shorter side.
 //!
 //! Heights (metres above the table top, TCP = the grasp point):
-//! - grasp: half the object's height (the fingers close on its middle);
+//! - grasp: half the object's height (the fingers close on its middle), but
+//!   no lower than `min_grasp_height`, which keeps the fingertips (15 mm
+//!   beyond the iiwa's TCP) off the table;
 //! - approach: grasp + `approach_clearance`;
 //! - carry: tallest thing on the table (objects, goal walls, hands) + the
 //!   held object's height + `carry_clearance`, so the held object's bottom
 //!   clears everything by at least `carry_clearance`;
-//! - release: the object's bottom `release_clearance` above the box floor.
+//! - release: the object's bottom `release_clearance` above the box's wall
+//!   top. DROP opens the gripper over the box, as in the paper: the fingers
+//!   never enter it, so a box narrower than the open gripper still works.
 
 use serde::{Deserialize, Serialize};
 
@@ -31,8 +35,10 @@ pub struct LiftSettings {
     pub approach_clearance: f64,
     /// Minimum gap between the held object's bottom and anything below it while travelling.
     pub carry_clearance: f64,
-    /// Gap between the object's bottom and the box floor at release.
+    /// Gap between the object's bottom and the box's wall top at release.
     pub release_clearance: f64,
+    /// Lowest TCP height above the table for a grasp.
+    pub min_grasp_height: f64,
     /// Longest straight step between consecutive waypoints; longer segments
     /// (the vertical moves, the carry over the wall) are cut into equal steps.
     pub max_step: f64,
@@ -44,6 +50,7 @@ impl Default for LiftSettings {
             approach_clearance: 0.10,
             carry_clearance: 0.05,
             release_clearance: 0.01,
+            min_grasp_height: 0.02,
             max_step: 0.01,
         }
     }
@@ -94,13 +101,14 @@ pub struct LiftedMotion {
     pub carry_height: f64,
 }
 
-/// Lifts a solved grid plan. `object` indexes the scenario's objects; `cells`
+/// Lifts a solved grid plan. `object` and `goal` index the scenario; `cells`
 /// is the plan's visited cells ([`crate::LearnedPlan::cells`]) and `actions`
 /// its actions.
 pub fn lift(
     scenario: &Scenario,
     task: &GridTask,
     object: usize,
+    goal: usize,
     actions: &[Action],
     cells: &[Cell],
     settings: &LiftSettings,
@@ -109,7 +117,7 @@ pub fn lift(
     let held = &scenario.objects[object];
     let table = scenario.camera.table_z;
     let carry_height = tallest(scenario, object) + held.height + settings.carry_clearance;
-    let grasp = held.height / 2.0;
+    let grasp = (held.height / 2.0).max(settings.min_grasp_height);
     let yaw = grasp_yaw(scenario, held.bbox.w, held.bbox.l);
     let grasp_at = actions
         .iter()
@@ -164,10 +172,11 @@ pub fn lift(
         ));
     }
     let drop_px = grid.centre(drop);
+    let goal_wall = scenario.goals[goal].height;
     out.push(point(drop_px, carry_height, Phase::OverWall, true));
     out.push(point(
         drop_px,
-        grasp + settings.release_clearance,
+        goal_wall + grasp + settings.release_clearance,
         Phase::Release,
         true,
     ));

@@ -8,15 +8,17 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use afford_collision::RobotGeometry;
 use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
+use crate::clearance::{PathCollision, SubgoalMotion, check_motion};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
-use crate::grid::{CellCode, GridRequest, StateGrid};
+use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{SubGoal, subgoals};
-use crate::lift::{LiftSettings, LiftedMotion, lift};
+use crate::lift::{LiftSettings, LiftedMotion, Phase, lift};
 use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
@@ -43,6 +45,9 @@ pub struct PlanOptions {
     pub until: Stage,
     pub lift: LiftSettings,
     pub ik: PathSettings,
+    /// How often a sub-goal is re-learnt with the cells blocked where the
+    /// arm collided, before giving up.
+    pub max_replans: usize,
     /// Folder that relative paths in the scenario (a user robot) start from.
     pub base_dir: PathBuf,
 }
@@ -54,6 +59,7 @@ impl Default for PlanOptions {
             until: Stage::Joints,
             lift: LiftSettings::default(),
             ik: PathSettings::default(),
+            max_replans: 5,
             base_dir: PathBuf::from("."),
         }
     }
@@ -127,6 +133,7 @@ pub struct StageTimings {
     pub cql: Duration,
     pub lift: Duration,
     pub ik: Duration,
+    pub collision: Duration,
 }
 
 /// Runs `f` and adds its wall time to `slot`.
@@ -149,6 +156,7 @@ struct World {
     scene: Scenario,
     gripper_px: [f64; 2],
     robot: Option<RobotModel>,
+    geometry: Option<RobotGeometry>,
     joints: Vec<f64>,
 }
 
@@ -173,10 +181,15 @@ impl Planner {
             false => None,
         };
         let joints = robot.as_ref().map_or_else(Vec::new, |r| r.home().to_vec());
+        let geometry = match &robot {
+            Some(r) => Some(RobotGeometry::new(r).map_err(|e| PlanError::Robot(e.to_string()))?),
+            None => None,
+        };
         let mut world = World {
             scene: scenario.clone(),
             gripper_px: scenario.robot.start,
             robot,
+            geometry,
             joints,
         };
         let mut plan = Plan {
@@ -229,14 +242,50 @@ impl Planner {
         seed: u64,
         timings: &mut StageTimings,
     ) -> Result<SubgoalPlan, String> {
+        let mut blocked = Vec::new();
+        loop {
+            let hit = match self.attempt(world, goal, request, &blocked, seed, timings)? {
+                Attempt::Planned(done) => return Ok(*done),
+                Attempt::Collides(hit) => hit,
+            };
+            let cell = hit
+                .replannable_cell
+                .filter(|_| blocked.len() < self.options.max_replans);
+            match cell {
+                Some(cell) if !blocked.contains(&cell) => blocked.push(cell),
+                _ => return Err(format!("the motion collides: {}", hit.collision)),
+            }
+        }
+    }
+
+    /// One pass through the stages with `blocked` cells added to the grid:
+    /// grid → CQL → lift → IK → collision check.
+    fn attempt(
+        &self,
+        world: &World,
+        goal: &SubGoal,
+        request: GridRequest,
+        blocked: &[Cell],
+        seed: u64,
+        timings: &mut StageTimings,
+    ) -> Result<Attempt, String> {
         let (options, scene) = (&self.options, &world.scene);
         let task = timed(&mut timings.grid, || {
-            GridTask::new(StateGrid::build(scene, request))
+            let mut grid = StateGrid::build(scene, request);
+            blocked.iter().for_each(|&cell| grid.block(cell));
+            GridTask::new(grid)
         });
         let learner = ContextualQLearner::new(scene.learner.clone());
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
-        let optimal =
-            oracle::optimal_length(&task).ok_or_else(|| why_unsolvable(scene, request))?;
+        let Some(optimal) = oracle::optimal_length(&task) else {
+            return Err(match blocked.is_empty() {
+                true => why_unsolvable(scene, request),
+                false => format!(
+                    "no route is left once {} cells the arm collides over are blocked",
+                    blocked.len()
+                ),
+            });
+        };
         if !learned.solved {
             return Err(format!(
                 "the learner found no plan within {} training steps",
@@ -245,46 +294,96 @@ impl Planner {
         }
         let mut done = subgoal_plan(goal, &task, &learned, optimal);
         if options.until < Stage::Waypoints {
-            return Ok(done);
+            return Ok(Attempt::Planned(Box::new(done)));
         }
         let motion = timed(&mut timings.lift, || {
             lift(
                 scene,
                 &task,
                 request.object,
+                request.goal,
                 &learned.actions,
                 &learned.cells,
                 &options.lift,
             )
         });
-        let Some(robot) = world
-            .robot
-            .as_ref()
-            .filter(|_| options.until >= Stage::Joints)
-        else {
+        let (Some(robot), Some(geometry)) = (&world.robot, &world.geometry) else {
             done.waypoints = Some(motion);
-            return Ok(done);
+            return Ok(Attempt::Planned(Box::new(done)));
         };
         let choice = timed(&mut timings.ik, || {
             solve_motion(robot, &motion, &world.joints, &options.ik, seed)
         })?;
         let arm = &robot.arms()[choice.arm_index];
+        let joint_path: Vec<Vec<f64>> = std::iter::once(arm.extract(&world.joints))
+            .chain(choice.path.waypoints)
+            .collect();
+        let check = SubgoalMotion {
+            scenario: scene,
+            target: request.object,
+            goal: request.goal,
+            arm: &arm.name,
+            rest: &world.joints,
+            joint_path: &joint_path,
+            waypoints: &motion.waypoints,
+        };
+        if let Some(hit) = timed(&mut timings.collision, || {
+            check_motion(robot, geometry, &check)
+        })? {
+            return Ok(Attempt::Collides(Box::new(Replan::of(
+                hit, scene, &task, &motion,
+            ))));
+        }
         done.arm = Some(choice.arm.clone());
         done.joint_names = Some(arm.joint_names.clone());
-        let start = arm.extract(&world.joints);
-        done.joint_path = Some(
-            std::iter::once(start)
-                .chain(choice.path.waypoints)
-                .collect(),
-        );
+        done.joint_path = Some(joint_path);
         done.waypoints = Some(motion);
-        Ok(done)
+        Ok(Attempt::Planned(Box::new(done)))
+    }
+}
+
+/// The outcome of one pass through the stages.
+enum Attempt {
+    Planned(Box<SubgoalPlan>),
+    Collides(Box<Replan>),
+}
+
+/// A collision the grid did not see, and the cell to block for the next pass.
+struct Replan {
+    collision: PathCollision,
+    /// The cell under the colliding waypoint, when it is a travel or carry
+    /// waypoint over a cell that may be blocked (not the start, the target or
+    /// the goal).
+    replannable_cell: Option<Cell>,
+}
+
+impl Replan {
+    fn of(
+        collision: PathCollision,
+        scene: &Scenario,
+        task: &GridTask,
+        motion: &LiftedMotion,
+    ) -> Self {
+        let grid = &task.grid;
+        let cell = collision
+            .waypoint
+            .and_then(|k| motion.waypoints.get(k))
+            .filter(|w| matches!(w.phase, Phase::Travel | Phase::Carry))
+            .map(|w| grid.cell_at(scene.base_to_pixel([w.position[0], w.position[1]])))
+            .filter(|&cell| {
+                cell != grid.start && cell != grid.target && grid.code(cell) == CellCode::Empty
+            });
+        Self {
+            collision,
+            replannable_cell: cell,
+        }
     }
 }
 
 impl World {
     /// The scene after a planned sub-goal: the object rests where it was
-    /// released, the gripper is there, the arm where its path ended.
+    /// released, the gripper is there, the arm where its path ended (other
+    /// arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
         self.gripper_px = *done.path_px.last().unwrap_or(&self.gripper_px);
         let object = &mut self.scene.objects[request.object];
@@ -294,8 +393,6 @@ impl World {
             return;
         };
         if let (Ok(arm), Some(last)) = (robot.arm(arm), path.last()) {
-            let parked = robot.parked_except(&self.joints, &arm.name);
-            self.joints = parked;
             arm.insert(&mut self.joints, last);
         }
     }

@@ -215,6 +215,18 @@ impl Scenario {
         [m[0][0].hypot(m[1][0]), m[0][1].hypot(m[1][1])]
     }
 
+    /// The pixel that maps to table-plane point (x, y): the inverse of
+    /// [`Self::pixel_to_base`] (validation guarantees it exists).
+    pub fn base_to_pixel(&self, [x, y]: [f64; 2]) -> [f64; 2] {
+        let m = &self.camera.pixel_to_base;
+        let (dx, dy) = (x - m[0][2], y - m[1][2]);
+        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        [
+            (m[1][1] * dx - m[0][1] * dy) / det,
+            (m[0][0] * dy - m[1][0] * dx) / det,
+        ]
+    }
+
     /// Table-plane point (x, y) in the robot base frame for a pixel.
     pub fn pixel_to_base(&self, [u, v]: [f64; 2]) -> [f64; 2] {
         let m = &self.camera.pixel_to_base;

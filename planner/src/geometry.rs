@@ -1,0 +1,97 @@
+//! The scenario as metric geometry for the collision checks: every pixel
+//! box mapped through `pixel_to_base` to a footprint on the table (centre,
+//! size along the image axes, yaw of the image u axis in the base frame),
+//! standing on `table_z` with its height, and its safety margin.
+//!
+//! Margins: other objects get `obstacle_margin` (`sensitive_margin` when
+//! sensitive), hands `hand_margin`, goals `obstacle_margin` — except the
+//! sub-goal's own goal and the table, which the gripper and the held object
+//! must enter or come close to and so get none (touching is still a
+//! collision). The sub-goal's target is left out: it is what the gripper
+//! grasps, and it rides with the gripper once held (see the collision
+//! crate's `Attachment`).
+
+use afford_collision::{BoxKind, SceneBox, SceneSpec, TableSpec};
+
+use crate::scenario::{PixelBox, Scenario};
+
+/// The collision scene for moving `scenario.objects[target]` into
+/// `scenario.goals[goal]`.
+pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec {
+    let margins = &scenario.safety;
+    let objects = scenario
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != target)
+        .map(|(_, o)| {
+            let margin = if scenario.is_sensitive(o) {
+                margins.sensitive_margin
+            } else {
+                margins.obstacle_margin
+            };
+            scene_box(scenario, &o.name, BoxKind::Object, o.bbox, o.height, margin)
+        });
+    let goals = scenario.goals.iter().enumerate().map(|(i, g)| {
+        let margin = if i == goal {
+            0.0
+        } else {
+            margins.obstacle_margin
+        };
+        scene_box(scenario, &g.name, BoxKind::Goal, g.bbox, g.height, margin)
+    });
+    let hands = scenario.hands.iter().map(|h| {
+        scene_box(
+            scenario,
+            &h.name,
+            BoxKind::Hand,
+            h.bbox,
+            h.height,
+            margins.hand_margin,
+        )
+    });
+    SceneSpec {
+        table_z: scenario.camera.table_z,
+        table: Some(table(scenario)),
+        boxes: objects.chain(goals).chain(hands).collect(),
+    }
+}
+
+/// A pixel box as a footprint in the base frame.
+pub fn scene_box(
+    s: &Scenario,
+    name: &str,
+    kind: BoxKind,
+    b: PixelBox,
+    height: f64,
+    margin: f64,
+) -> SceneBox {
+    let [mu, mv] = s.metres_per_pixel();
+    let m = &s.camera.pixel_to_base;
+    SceneBox {
+        name: name.to_string(),
+        kind,
+        centre: s.pixel_to_base(b.centre()),
+        size: [b.w * mu, b.l * mv, height],
+        yaw: m[1][0].atan2(m[0][0]),
+        margin,
+    }
+}
+
+/// The table top: the bounding rectangle of the image's footprint.
+fn table(s: &Scenario) -> TableSpec {
+    let (w, h) = (s.camera.width as f64, s.camera.height as f64);
+    let corners = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]].map(|p| s.pixel_to_base(p));
+    let min = [0, 1].map(|k| corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
+    let max = [0, 1].map(|k| {
+        corners
+            .iter()
+            .map(|c| c[k])
+            .fold(f64::NEG_INFINITY, f64::max)
+    });
+    TableSpec {
+        min,
+        max,
+        margin: 0.0,
+    }
+}
