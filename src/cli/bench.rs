@@ -5,7 +5,7 @@ use std::io::IsTerminal;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{BenchCqlArgs, BenchIkArgs, ExitKind, Failure};
+use super::{BenchCqlArgs, BenchIkArgs, BenchSeedArgs, ExitKind, Failure};
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
     if args.scenarios == 0 {
@@ -67,6 +67,21 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
             a.k_success_rate * 100.0,
             a.k_median_us
         );
+    }
+    Ok(())
+}
+
+pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
+    eprintln!("afford: cross-checking 1,000 random paths against dense sampling…");
+    let report = afford_collision::collision_benchmark(args.seed)
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+    } else {
+        println!("random paths checked:          {}", report.paths);
+        println!("collisions the fast check missed: {}", report.missed_collisions);
+        println!("median ms, 1,000-configuration arm path: {:.3}", report.median_ms_arm_path_1000);
+        println!("shape-pair queries per second:   {:.0}", report.pair_queries_per_s);
     }
     Ok(())
 }

@@ -98,6 +98,18 @@ pub enum BenchCommand {
     Cql(BenchCqlArgs),
     /// Inverse kinematics of every built-in arm on random reachable poses, afford's solver beside k's.
     Ik(BenchIkArgs),
+    /// Collision checks: the fast continuous check against dense sampling on random paths, and its speed.
+    Collision(BenchSeedArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchSeedArgs {
+    /// Seed of the random scenes and paths.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -158,5 +170,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Robots(args) => robots::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
+        Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
     }
 }
