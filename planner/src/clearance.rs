@@ -1,6 +1,8 @@
-//! The collision stage: a sub-goal's joint path checked against the scene
-//! with the collision crate's continuous checks (every arm link, the gripper,
-//! the held object, the other arm; safety perimeters as margins).
+//! The collision stage: an arm's joint path checked against the scene with
+//! the collision crate's continuous checks (every arm link, the gripper, the
+//! held object, the other arm; safety perimeters as margins). Used twice:
+//! on the IK path, where a hit can send the grid back to CQL, and on the
+//! sampled trajectory, the independent check before anything leaves afford.
 //!
 //! The path is checked in three parts, split where the gripper closes and
 //! opens: up to the grasp the target is ignored (the fingers close on it);
@@ -13,67 +15,48 @@ use afford_collision::{Attachment, BoxKind, Collision, PathOptions, RobotGeometr
 use afford_kinematics::RobotModel;
 
 use crate::geometry::{scene_box, scene_spec};
-use crate::lift::{Phase, ToolWaypoint};
 use crate::scenario::Scenario;
 
 /// Height of the held object's bottom slice that may touch its support, m.
 pub const SUPPORT_GAP: f64 = 0.002;
 
-/// A collision found on a sub-goal's path.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PathCollision {
-    /// Index of the tool waypoint nearest the hit (`None`: the move from the
-    /// robot's current configuration to the first waypoint).
-    pub waypoint: Option<usize>,
-    pub phase: Option<Phase>,
-    pub collision: Collision,
-}
-
-impl std::fmt::Display for PathCollision {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match (self.waypoint, self.phase) {
-            (Some(k), Some(phase)) => write!(f, "{phase:?} waypoint {k}: {}", self.collision),
-            _ => write!(f, "on the way to the first waypoint: {}", self.collision),
-        }
-    }
-}
-
-/// What the check needs to know of one sub-goal.
-pub struct SubgoalMotion<'a> {
+/// One arm's motion for one sub-goal.
+pub struct ArmMotion<'a> {
     pub scenario: &'a Scenario,
     pub target: usize,
     pub goal: usize,
     pub arm: &'a str,
     /// The whole robot's configuration; the arm's joints are replaced by the path.
     pub rest: &'a [f64],
-    /// The arm's configuration at the start and at every tool waypoint.
-    pub joint_path: &'a [Vec<f64>],
-    pub waypoints: &'a [ToolWaypoint],
+    /// The arm's configurations, in order; linear in between.
+    pub path: &'a [Vec<f64>],
+    /// Path indices where the gripper closes and opens.
+    pub grasp_at: usize,
+    pub release_at: usize,
+}
+
+/// A hit on the path: the path index nearest to it and what hit what.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathHit {
+    pub index: usize,
+    pub collision: Collision,
 }
 
 /// Checks the motion; `Ok(None)` when it is free with every margin kept.
+/// `Err` when the check cannot run (a robot or scene the collision crate
+/// rejects).
 pub fn check_motion(
     robot: &RobotModel,
     geometry: &RobotGeometry,
-    m: &SubgoalMotion,
-) -> Result<Option<PathCollision>, String> {
+    m: &ArmMotion,
+) -> Result<Option<PathHit>, String> {
     let spec = scene_spec(m.scenario, m.target, m.goal);
     let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
     let object = &m.scenario.objects[m.target];
-    let target_name = object.name.clone();
-    let last = |phase: Phase| {
-        m.waypoints
-            .iter()
-            .rposition(|w| w.phase == phase)
-            .map_or(0, |k| k + 1)
-    };
-    let (grasp, release) = (last(Phase::Grasp), last(Phase::Release));
     let arm = robot.arm(m.arm).map_err(|e| e.to_string())?;
-    // The held box's lowest SUPPORT_GAP is not checked: it is the face that
-    // rests on the table while the fingers close.
     let mut held = scene_box(
         m.scenario,
-        &target_name,
+        &object.name,
         BoxKind::Object,
         object.bbox,
         object.height,
@@ -83,47 +66,41 @@ pub fn check_motion(
     let attached = Attachment::grasped(
         &held,
         spec.table_z + SUPPORT_GAP,
-        &arm.fk(&m.joint_path[grasp]),
+        &arm.fk(&m.path[m.grasp_at]),
     );
+    let options = PathOptions {
+        arm: Some(m.arm.to_string()),
+        ..PathOptions::default()
+    };
     let parts = [
         (
             0,
-            grasp,
+            m.grasp_at,
             PathOptions {
-                ignore: vec![target_name.clone()],
-                ..options(m.arm)
+                ignore: vec![object.name.clone()],
+                ..options.clone()
             },
         ),
         (
-            grasp,
-            release,
+            m.grasp_at,
+            m.release_at,
             PathOptions {
                 attached: Some(attached),
-                ..options(m.arm)
+                ..options.clone()
             },
         ),
-        (release, m.joint_path.len() - 1, options(m.arm)),
+        (m.release_at, m.path.len() - 1, options),
     ];
     for (from, to, opts) in parts {
         let verdict = geometry
-            .check_arm_path(&scene, m.arm, m.rest, &m.joint_path[from..=to], &opts)
+            .check_arm_path(&scene, m.arm, m.rest, &m.path[from..=to], &opts)
             .map_err(|e| e.to_string())?;
         if let Some(hit) = verdict.first() {
-            let index = from + hit.waypoint;
-            let waypoint = index.checked_sub(1);
-            return Ok(Some(PathCollision {
-                waypoint,
-                phase: waypoint.and_then(|k| m.waypoints.get(k)).map(|w| w.phase),
+            return Ok(Some(PathHit {
+                index: from + hit.waypoint,
                 collision: hit.clone(),
             }));
         }
     }
     Ok(None)
-}
-
-fn options(arm: &str) -> PathOptions {
-    PathOptions {
-        arm: Some(arm.to_string()),
-        ..PathOptions::default()
-    }
 }

@@ -16,6 +16,7 @@
 //! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
 //! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
+//! | time-parameterisation | [`timing`], [`trajectory`] (Clarabel) | — |
 //! | pipeline | [`plan`] | Fig. 2 |
 //!
 //! ```
@@ -42,6 +43,7 @@ pub mod scenario;
 pub mod smooth;
 pub mod task;
 pub mod timing;
+pub mod trajectory;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};

@@ -101,6 +101,27 @@ pub struct LiftedMotion {
     pub carry_height: f64,
 }
 
+impl LiftedMotion {
+    /// Indices into the joint path — 0 is the robot's configuration before
+    /// the first waypoint, `k + 1` is waypoint `k` — where the gripper
+    /// closes (last `grasp` waypoint) and opens (last `release` waypoint).
+    pub fn gripper_switches(&self) -> (usize, usize) {
+        let last = |phase: Phase| {
+            self.waypoints
+                .iter()
+                .rposition(|w| w.phase == phase)
+                .map_or(0, |k| k + 1)
+        };
+        (last(Phase::Grasp), last(Phase::Release))
+    }
+
+    /// The waypoint and phase of joint-path index `index` (`None` for 0).
+    pub fn waypoint_of(&self, index: usize) -> Option<(usize, Phase)> {
+        let k = index.checked_sub(1)?;
+        self.waypoints.get(k).map(|w| (k, w.phase))
+    }
+}
+
 /// Lifts a solved grid plan. `object` and `goal` index the scenario; `cells`
 /// is the plan's visited cells ([`crate::LearnedPlan::cells`]) and `actions`
 /// its actions.

@@ -13,7 +13,7 @@ use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
-use crate::clearance::{PathCollision, SubgoalMotion, check_motion};
+use crate::clearance::{ArmMotion, PathHit, check_motion};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
@@ -23,6 +23,8 @@ use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
 use crate::task::{Action, GridTask};
+use crate::timing::TimingSettings;
+use crate::trajectory::{TimedMotion, TimingRequest, time_motion};
 
 /// Where the pipeline stops. Later stages need the earlier ones.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -32,8 +34,10 @@ pub enum Stage {
     Grid,
     /// Plus tool waypoints in the robot base frame.
     Waypoints,
-    /// Plus the arm choice and its joint path (inverse kinematics).
+    /// Plus the arm choice and its collision-checked joint path.
     Joints,
+    /// Plus the timed joint trajectory, checked again as sampled.
+    Trajectory,
 }
 
 /// How to run the pipeline.
@@ -45,6 +49,7 @@ pub struct PlanOptions {
     pub until: Stage,
     pub lift: LiftSettings,
     pub ik: PathSettings,
+    pub timing: TimingSettings,
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
@@ -56,9 +61,10 @@ impl Default for PlanOptions {
     fn default() -> Self {
         Self {
             seed: 1,
-            until: Stage::Joints,
+            until: Stage::Trajectory,
             lift: LiftSettings::default(),
             ik: PathSettings::default(),
+            timing: TimingSettings::default(),
             max_replans: 5,
             base_dir: PathBuf::from("."),
         }
@@ -109,6 +115,9 @@ pub struct SubgoalPlan {
     /// The arm's configuration at the start and at every tool waypoint.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub joint_path: Option<Vec<Vec<f64>>>,
+    /// The timed trajectory and gripper commands (stage `trajectory`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<TimedMotion>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -134,6 +143,7 @@ pub struct StageTimings {
     pub lift: Duration,
     pub ik: Duration,
     pub collision: Duration,
+    pub timing: Duration,
 }
 
 /// Runs `f` and adds its wall time to `slot`.
@@ -253,7 +263,7 @@ impl Planner {
                 .filter(|_| blocked.len() < self.options.max_replans);
             match cell {
                 Some(cell) if !blocked.contains(&cell) => blocked.push(cell),
-                _ => return Err(format!("the motion collides: {}", hit.collision)),
+                _ => return Err(format!("the motion collides: {}", hit.message)),
             }
         }
     }
@@ -318,14 +328,16 @@ impl Planner {
         let joint_path: Vec<Vec<f64>> = std::iter::once(arm.extract(&world.joints))
             .chain(choice.path.waypoints)
             .collect();
-        let check = SubgoalMotion {
+        let (grasp_at, release_at) = motion.gripper_switches();
+        let check = ArmMotion {
             scenario: scene,
             target: request.object,
             goal: request.goal,
             arm: &arm.name,
             rest: &world.joints,
-            joint_path: &joint_path,
-            waypoints: &motion.waypoints,
+            path: &joint_path,
+            grasp_at,
+            release_at,
         };
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
@@ -333,6 +345,40 @@ impl Planner {
             return Ok(Attempt::Collides(Box::new(Replan::of(
                 hit, scene, &task, &motion,
             ))));
+        }
+        if options.until >= Stage::Trajectory {
+            let request = TimingRequest {
+                scenario: scene,
+                robot,
+                arm,
+                path: &joint_path,
+                switches: (grasp_at, release_at),
+                separation: &scene.safety.separation,
+                settings: &options.timing,
+            };
+            let timed_motion = timed(&mut timings.timing, || time_motion(&request))?;
+            let (grasp_at, release_at) = timed_motion.gripper_samples();
+            let positions: Vec<Vec<f64>> = timed_motion
+                .points
+                .iter()
+                .map(|p| p.positions.clone())
+                .collect();
+            let verify = ArmMotion {
+                path: &positions,
+                grasp_at,
+                release_at,
+                ..check
+            };
+            if let Some(hit) = timed(&mut timings.collision, || {
+                check_motion(robot, geometry, &verify)
+            })? {
+                let t = timed_motion.points[hit.index].time_from_start;
+                return Err(format!(
+                    "the timed trajectory collides at t = {t:.3} s: {}",
+                    hit.collision
+                ));
+            }
+            done.trajectory = Some(timed_motion);
         }
         done.arm = Some(choice.arm.clone());
         done.joint_names = Some(arm.joint_names.clone());
@@ -350,7 +396,8 @@ enum Attempt {
 
 /// A collision the grid did not see, and the cell to block for the next pass.
 struct Replan {
-    collision: PathCollision,
+    /// The collision in words, with the waypoint and phase where it happens.
+    message: String,
     /// The cell under the colliding waypoint, when it is a travel or carry
     /// waypoint over a cell that may be blocked (not the start, the target or
     /// the goal).
@@ -358,23 +405,26 @@ struct Replan {
 }
 
 impl Replan {
-    fn of(
-        collision: PathCollision,
-        scene: &Scenario,
-        task: &GridTask,
-        motion: &LiftedMotion,
-    ) -> Self {
+    fn of(hit: PathHit, scene: &Scenario, task: &GridTask, motion: &LiftedMotion) -> Self {
         let grid = &task.grid;
-        let cell = collision
-            .waypoint
-            .and_then(|k| motion.waypoints.get(k))
-            .filter(|w| matches!(w.phase, Phase::Travel | Phase::Carry))
-            .map(|w| grid.cell_at(scene.base_to_pixel([w.position[0], w.position[1]])))
+        let at = motion.waypoint_of(hit.index);
+        let message = match at {
+            Some((k, phase)) => format!(
+                "{} waypoint {k}: {}",
+                format!("{phase:?}").to_lowercase(),
+                hit.collision
+            ),
+            None => format!("on the way to the first waypoint: {}", hit.collision),
+        };
+        let cell = at
+            .filter(|(_, phase)| matches!(phase, Phase::Travel | Phase::Carry))
+            .map(|(k, _)| motion.waypoints[k].position)
+            .map(|p| grid.cell_at(scene.base_to_pixel([p[0], p[1]])))
             .filter(|&cell| {
                 cell != grid.start && cell != grid.target && grid.code(cell) == CellCode::Empty
             });
         Self {
-            collision,
+            message,
             replannable_cell: cell,
         }
     }
@@ -448,6 +498,7 @@ fn subgoal_plan(
         arm: None,
         joint_names: None,
         joint_path: None,
+        trajectory: None,
     }
 }
 

@@ -76,12 +76,24 @@ pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
     let report = afford_collision::collision_benchmark(args.seed)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report).expect("report serialises"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("report serialises")
+        );
     } else {
         println!("random paths checked:          {}", report.paths);
-        println!("collisions the fast check missed: {}", report.missed_collisions);
-        println!("median ms, 1,000-configuration arm path: {:.3}", report.median_ms_arm_path_1000);
-        println!("shape-pair queries per second:   {:.0}", report.pair_queries_per_s);
+        println!(
+            "collisions the fast check missed: {}",
+            report.missed_collisions
+        );
+        println!(
+            "median ms, 1,000-configuration arm path: {:.3}",
+            report.median_ms_arm_path_1000
+        );
+        println!(
+            "shape-pair queries per second:   {:.0}",
+            report.pair_queries_per_s
+        );
     }
     Ok(())
 }

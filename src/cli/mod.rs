@@ -44,8 +44,11 @@ pub struct PlanArgs {
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Controller sampling rate of the trajectory, Hz.
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
     /// Stop the pipeline after this stage and print what exists so far.
-    #[arg(long, value_enum, default_value_t = Until::Joints)]
+    #[arg(long, value_enum, default_value_t = Until::Trajectory)]
     pub until: Until,
 }
 
@@ -56,8 +59,10 @@ pub enum Until {
     Grid,
     /// Plus tool waypoints in the robot base frame.
     Waypoints,
-    /// Plus the arm choice and its joint path.
+    /// Plus the arm choice and its collision-checked joint path.
     Joints,
+    /// Plus the timed joint trajectory (the whole pipeline).
+    Trajectory,
 }
 
 impl From<Until> for afford_planner::Stage {
@@ -66,6 +71,7 @@ impl From<Until> for afford_planner::Stage {
             Until::Grid => Self::Grid,
             Until::Waypoints => Self::Waypoints,
             Until::Joints => Self::Joints,
+            Until::Trajectory => Self::Trajectory,
         }
     }
 }

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use afford_planner::scenario::{self, Scenario};
+use afford_planner::timing::TimingSettings;
 use afford_planner::{PlanError, PlanOptions, plan};
 
 use super::output::{emit, render};
@@ -23,6 +24,10 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         seed: args.seed,
         until: args.until.into(),
         base_dir,
+        timing: TimingSettings {
+            rate_hz: args.rate,
+            ..TimingSettings::default()
+        },
         ..PlanOptions::default()
     };
     let plan = plan(&scenario, &options).map_err(|e| match e {

@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::cql::LearnerSettings;
+use crate::timing::SeparationSettings;
 
 /// The scenario format version this build reads.
 pub const FORMAT_VERSION: u32 = 1;
@@ -169,6 +170,9 @@ pub struct Safety {
     pub obstacle_margin: f64,
     pub sensitive_margin: f64,
     pub hand_margin: f64,
+    /// Speed and separation near hands (ISO/TS 15066); defaults and their
+    /// sources are on [`SeparationSettings`].
+    pub separation: SeparationSettings,
 }
 
 impl Default for Safety {
@@ -177,6 +181,7 @@ impl Default for Safety {
             obstacle_margin: 0.02,
             sensitive_margin: 0.06,
             hand_margin: 0.10,
+            separation: SeparationSettings::default(),
         }
     }
 }
