@@ -1,0 +1,145 @@
+//! The command line: help texts, the benchmark's JSON and argument errors.
+
+use serde_json::Value;
+
+use crate::util::{afford, assert_contains_all};
+
+#[test]
+fn top_level_help_lists_the_commands() {
+    let run = afford(&["--help"]);
+    run.assert_code(0).assert_no_panic();
+    assert_contains_all(
+        "afford --help",
+        &run.stdout,
+        &["Usage:", "plan", "bench", "--version"],
+    );
+}
+
+#[test]
+fn plan_help_lists_its_options() {
+    let run = afford(&["plan", "--help"]);
+    run.assert_code(0).assert_no_panic();
+    assert_contains_all(
+        "afford plan --help",
+        &run.stdout,
+        &[
+            "[SCENARIO]",
+            "--seed",
+            "--format",
+            "json",
+            "yaml",
+            "-o, --output",
+        ],
+    );
+}
+
+#[test]
+fn bench_cql_help_lists_its_options() {
+    let run = afford(&["bench", "cql", "--help"]);
+    run.assert_code(0).assert_no_panic();
+    assert_contains_all(
+        "afford bench cql --help",
+        &run.stdout,
+        &["--scenarios", "--seed", "--json"],
+    );
+}
+
+#[test]
+fn version_is_the_crate_version() {
+    let run = afford(&["--version"]);
+    run.assert_code(0);
+    assert_eq!(
+        run.stdout.trim(),
+        format!("afford {}", env!("CARGO_PKG_VERSION"))
+    );
+}
+
+fn number(report: &Value, path: &str) -> f64 {
+    path.split('.')
+        .fold(report, |v, key| &v[key])
+        .as_f64()
+        .unwrap_or_else(|| panic!("{path} is not a number in\n{report:#}"))
+}
+
+#[test]
+fn bench_cql_json_has_the_documented_keys() {
+    let run = afford(&["bench", "cql", "--scenarios", "5", "--seed", "1", "--json"]);
+    run.assert_code(0).assert_no_panic();
+    let report = run.json();
+    let solvable = number(&report, "solvable");
+    assert!(
+        solvable.fract() == 0.0 && (0.0..=5.0).contains(&solvable),
+        "solvable = {solvable}"
+    );
+    for learner in ["cql", "ql"] {
+        let rate = number(&report, &format!("{learner}.success_rate"));
+        assert!(
+            (0.0..=1.0).contains(&rate),
+            "{learner}.success_rate = {rate}"
+        );
+    }
+    assert!(number(&report, "cql.median_ms") >= 0.0);
+    assert!(number(&report, "cql.mean_steps") > 0.0 || solvable == 0.0);
+    let ratio = number(&report, "cql.mean_length_over_optimal");
+    if number(&report, "cql.success_rate") > 0.0 {
+        // The oracle is optimal: no learned plan can be shorter.
+        assert!(
+            ratio >= 1.0 - 1e-12,
+            "cql.mean_length_over_optimal = {ratio}"
+        );
+    }
+    // The same seed gives the same scenes and the same learning; only the
+    // timings may differ.
+    let again = afford(&["bench", "cql", "--scenarios", "5", "--seed", "1", "--json"]).json();
+    for key in [
+        "solvable",
+        "cql.success_rate",
+        "cql.mean_steps",
+        "cql.mean_length_over_optimal",
+        "ql.success_rate",
+        "ql.mean_steps",
+    ] {
+        assert_eq!(
+            number(&report, key),
+            number(&again, key),
+            "{key} differs between runs"
+        );
+    }
+}
+
+#[test]
+fn bench_cql_prints_a_table_without_json() {
+    let run = afford(&["bench", "cql", "--scenarios", "2", "--seed", "3"]);
+    run.assert_code(0).assert_no_panic();
+    assert!(
+        serde_json::from_str::<Value>(&run.stdout).is_err(),
+        "printed JSON:\n{}",
+        run.stdout
+    );
+    assert_contains_all("the table", &run.stdout, &["CQL", "QL"]);
+}
+
+#[test]
+fn bad_arguments_exit_with_code_2() {
+    for args in [
+        &[][..],
+        &["plan", "--format", "xml"],
+        &["plan", "--seed", "minus-one"],
+        &["bench", "cql", "--scenarios", "0"],
+        &["frobnicate"],
+    ] {
+        let run = afford(args);
+        run.assert_code(2).assert_no_panic();
+        assert!(
+            run.stdout.is_empty(),
+            "{}: printed {}",
+            run.command,
+            run.stdout
+        );
+        assert!(
+            !run.stderr.trim().is_empty(),
+            "{}: nothing on stderr",
+            run.command
+        );
+    }
+}

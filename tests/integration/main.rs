@@ -1,0 +1,9 @@
+//! afford's integration tests: one test binary (ripgrep's layout) with a
+//! module per topic. Fixtures live in tests/fixtures/.
+
+mod cli;
+mod cql_properties;
+mod examples;
+mod instructions;
+mod scenario_errors;
+mod util;
