@@ -112,7 +112,10 @@ fn greatest_profile_lp_equals_exact_time_socp() {
         )
         .unwrap();
         let (t_lp, t_socp) = (solved(&lp).duration(), solved(&socp).duration());
-        assert!((t_lp - t_socp).abs() / t_socp < 1e-5, "LP {t_lp} SOCP {t_socp}");
+        assert!(
+            (t_lp - t_socp).abs() / t_socp < 1e-5,
+            "LP {t_lp} SOCP {t_socp}"
+        );
     }
     let (path, limits, proximity) = planar_case();
     let settings = TimingSettings {
@@ -120,9 +123,13 @@ fn greatest_profile_lp_equals_exact_time_socp() {
         ..TimingSettings::default()
     };
     let socp = time_parameterize(&path, &limits, Some(&proximity), &settings).unwrap();
-    let lp = time_parameterize(&path, &limits, Some(&proximity), &TimingSettings::default()).unwrap();
+    let lp =
+        time_parameterize(&path, &limits, Some(&proximity), &TimingSettings::default()).unwrap();
     let (t_lp, t_socp) = (solved(&lp).duration(), solved(&socp).duration());
-    assert!((t_lp - t_socp).abs() / t_socp < 1e-5, "LP {t_lp} SOCP {t_socp}");
+    assert!(
+        (t_lp - t_socp).abs() / t_socp < 1e-5,
+        "LP {t_lp} SOCP {t_socp}"
+    );
 }
 
 #[test]
@@ -371,7 +378,7 @@ fn export_reference_case() {
     for _ in 0..10 {
         let path = random_smooth_path(&mut rng, 7, 12);
         let mut durations = serde_json::Map::new();
-        for n in [100, 200, 400, 1000] {
+        for n in [100, 200, 300, 400, 1000] {
             let settings = TimingSettings {
                 path_points: n,
                 ..TimingSettings::default()

@@ -144,8 +144,6 @@ pub fn segment_rows(
     rows: &mut Vec<(f64, f64)>,
 ) {
     let ds = grid.step(i);
-    let first = rows.len();
-    let mut same_sign: Vec<(f64, f64)> = Vec::new();
     for j in 0..spline.dim() {
         let (d1, d2) = derivatives_on_segment(spline, grid, i, j);
         // Acceleration: u(θ) multiplies b_i, w(θ) multiplies b_{i+1}.
@@ -159,13 +157,8 @@ pub fn segment_rows(
         let (bu, bw) = (bernstein(&u), bernstein(&w));
         for k in 0..3 {
             let (alpha, beta) = (bu[k] / acc[j], bw[k] / acc[j]);
-            for (a, b) in [(alpha, beta), (-alpha, -beta)] {
-                if a > 0.0 && b > 0.0 {
-                    same_sign.push((a, b));
-                } else {
-                    rows.push((a, b));
-                }
-            }
+            push_lattice_row(alpha, beta, rows);
+            push_lattice_row(-alpha, -beta, rows);
         }
         let mut g = square(&d1);
         g.iter_mut().for_each(|c| *c /= vel_sq[j]);
@@ -181,29 +174,18 @@ pub fn segment_rows(
         }
         push_speed_rows(&g, rows);
     }
-    // A-priori bounds of b_i, b_{i+1} from this segment's single-variable rows.
-    let (mut ux, mut uy) = (f64::INFINITY, f64::INFINITY);
-    for &(a, b) in &rows[first..] {
-        if b == 0.0 && a > 0.0 {
-            ux = ux.min(1.0 / a);
-        } else if a == 0.0 && b > 0.0 {
-            uy = uy.min(1.0 / b);
-        }
-    }
-    let ratio = if ux.is_finite() && uy.is_finite() { uy / ux } else { 1.0 };
-    for (alpha, beta) in same_sign {
-        push_lattice_row(alpha, beta, ratio, rows);
-    }
 }
 
 /// A row with both coefficients positive, `α b_i + β b_{i+1} ≤ 1`, is
-/// replaced by the two bounds `b_i ≤ x`, `b_{i+1} ≤ ρ x`, `x = 1/(α + ρβ)`,
-/// which imply it and coincide with it where `b_{i+1} = ρ b_i`; `ρ` is the
-/// ratio of the segment's a-priori (velocity) bounds on `b_{i+1}` and `b_i`.
-fn push_lattice_row(alpha: f64, beta: f64, ratio: f64, rows: &mut Vec<(f64, f64)>) {
-    let x = 1.0 / (alpha + ratio * beta);
-    rows.push((1.0 / x, 0.0));
-    rows.push((0.0, 1.0 / (ratio * x)));
+/// replaced by the two bounds `b_i, b_{i+1} ≤ 1/(α + β)`, which imply it and
+/// coincide with it where `b_i = b_{i+1}`; other rows are kept as they are.
+fn push_lattice_row(alpha: f64, beta: f64, rows: &mut Vec<(f64, f64)>) {
+    if alpha > 0.0 && beta > 0.0 {
+        rows.push((alpha + beta, 0.0));
+        rows.push((0.0, alpha + beta));
+    } else {
+        rows.push((alpha, beta));
+    }
 }
 
 fn square(p: &[f64; 3]) -> [f64; 5] {

@@ -141,7 +141,7 @@ pub fn verify(
 ) -> Result<(), LimitViolation> {
     for (k, p) in trajectory.points.iter().enumerate() {
         for j in 0..velocity.len() {
-            if !(p.velocities[j].abs() <= velocity[j] * (1.0 + tolerance)) {
+            if !within(p.velocities[j], velocity[j], tolerance) {
                 return Err(LimitViolation {
                     kind: LimitKind::Velocity,
                     sample: k,
@@ -150,7 +150,7 @@ pub fn verify(
                     limit: velocity[j],
                 });
             }
-            if !(p.accelerations[j].abs() <= acceleration[j] * (1.0 + tolerance)) {
+            if !within(p.accelerations[j], acceleration[j], tolerance) {
                 return Err(LimitViolation {
                     kind: LimitKind::Acceleration,
                     sample: k,
@@ -165,7 +165,7 @@ pub fn verify(
             let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
             spline.eval(s, &mut x, &mut dx, &mut ddx);
             let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
-            if !(speed <= caps[segment] * (1.0 + tolerance)) {
+            if !within(speed, caps[segment], tolerance) {
                 return Err(LimitViolation {
                     kind: LimitKind::ToolSpeed,
                     sample: k,
@@ -177,4 +177,9 @@ pub fn verify(
         }
     }
     Ok(())
+}
+
+/// `|value| ≤ limit (1 + tolerance)`; false for NaN.
+fn within(value: f64, limit: f64, tolerance: f64) -> bool {
+    value.abs() <= limit * (1.0 + tolerance)
 }

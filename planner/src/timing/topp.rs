@@ -137,9 +137,9 @@ pub fn solve_profile(
             if let Some(col) = b_col(i + 1) {
                 push(r, col, beta);
             }
-            h[r] = 1.0;
         }
     }
+    h[..lin].fill(1.0);
     let mut q = vec![0.0; vars];
     let mut cones = Vec::with_capacity(1 + inner + n);
     if lin > 0 {
