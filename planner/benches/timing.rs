@@ -1,5 +1,5 @@
 //! The timing stage (spline → SOCP with Clarabel → 100 Hz samples → check)
-//! on seeded random smooth 7-joint paths with iiwa-like limits, at 100, 200
+//! on seeded random smooth 7-joint paths with iiwa-like limits, at 200, 300
 //! and 400 path segments. The figure of the issue is `timing/200`.
 
 use afford_planner::timing::bench::{iiwa_limits, random_smooth_path};
@@ -16,7 +16,7 @@ fn timing(c: &mut Criterion) {
     let limits = iiwa_limits();
     let mut group = c.benchmark_group("timing");
     group.sample_size(30);
-    for segments in [100, 200, 400] {
+    for segments in [200, 300, 400] {
         let settings = TimingSettings {
             path_points: segments,
             ..TimingSettings::default()
