@@ -15,6 +15,12 @@
 //! drawn from the seed; "the" + singular takes the first match in the
 //! scenario's order. Objects already resting in the named goal do not match.
 //! Sub-goals come out clause by clause, objects in the scenario's order.
+//!
+//! Also understood: "the red and blue squares" (colours before "and" share
+//! the noun after it), "the blue ones" (keeps the previous clause's noun),
+//! "from the left box" / "out of the left box" (only objects resting in that
+//! goal). Exclusions ("except", "but not", "other than", …) are refused
+//! rather than misread.
 
 use std::collections::BTreeSet;
 
@@ -34,6 +40,15 @@ pub struct SubGoal {
 
 const VERBS: &[&str] = &[
     "put", "place", "move", "take", "bring", "drop", "carry", "transfer", "set", "sort", "store",
+];
+const EXCLUSIONS: &[&str] = &[
+    "except",
+    "excluding",
+    "but",
+    "apart",
+    "other",
+    "besides",
+    "without",
 ];
 const PREPOSITIONS: &[&str] = &[
     "in", "into", "to", "onto", "on", "inside", "at", "over", "towards", "toward",
@@ -91,7 +106,8 @@ enum Quantity {
 /// Which objects a clause describes.
 #[derive(Debug, Clone, Default, PartialEq)]
 struct Description {
-    colour: Option<String>,
+    /// Any of these colours (empty: any colour).
+    colours: Vec<String>,
     shape: Option<String>,
     named: Vec<usize>,
     generic: bool,
@@ -100,7 +116,7 @@ struct Description {
 
 impl Description {
     fn is_empty(&self) -> bool {
-        self.colour.is_none() && self.shape.is_none() && self.named.is_empty() && !self.generic
+        self.colours.is_empty() && self.shape.is_none() && self.named.is_empty() && !self.generic
     }
 
     fn text(&self) -> String {
@@ -110,9 +126,9 @@ impl Description {
         } else {
             noun
         };
-        match &self.colour {
-            Some(c) => format!("{c} {noun}"),
-            None => noun,
+        match self.colours.is_empty() {
+            true => noun,
+            false => format!("{} {noun}", self.colours.join(" or ")),
         }
     }
 }
@@ -121,6 +137,8 @@ struct Clause {
     quantity: Option<Quantity>,
     description: Description,
     goal: Option<usize>,
+    /// "from the left box": only objects resting in this goal match.
+    source: Option<usize>,
     text: String,
 }
 
@@ -136,13 +154,35 @@ pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, Instruct
             scenario.instruction.trim()
         )));
     }
+    if let Some(w) = tokens.iter().find_map(|t| match t {
+        Token::Word(w) if EXCLUSIONS.contains(&w.as_str()) => Some(w),
+        _ => None,
+    }) {
+        return Err(InstructionError::new(format!(
+            "it excludes objects (\"{w} …\"), which afford does not understand yet; name the objects to move instead"
+        )));
+    }
     let mut clauses = Vec::new();
+    let mut pending: Vec<Token> = Vec::new();
     for part in tokens
         .split(|t| *t == Token::Break)
         .filter(|p| !p.is_empty())
     {
+        // "the red and blue squares": a part with colours only lends them
+        // to the next part's noun.
+        if is_colours_only(scenario, part) {
+            pending.extend_from_slice(part);
+            continue;
+        }
+        let part: Vec<Token> = pending.drain(..).chain(part.iter().cloned()).collect();
         let previous = clauses.last().map(|c: &Clause| c.description.clone());
-        if let Some(clause) = parse_clause(scenario, part, previous)? {
+        if let Some(clause) = parse_clause(scenario, &part, previous)? {
+            clauses.push(clause);
+        }
+    }
+    if !pending.is_empty() {
+        let previous = clauses.last().map(|c: &Clause| c.description.clone());
+        if let Some(clause) = parse_clause(scenario, &pending, previous)? {
             clauses.push(clause);
         }
     }
@@ -224,11 +264,59 @@ fn tokenize(s: &Scenario) -> Vec<Token> {
     tokens
 }
 
+/// True when the part's words are only colours, articles and quantifiers.
+fn is_colours_only(s: &Scenario, part: &[Token]) -> bool {
+    let colours = colour_words(s);
+    let mut any = false;
+    let only = part.iter().all(|t| match t {
+        Token::Word(w) if colours.contains(w) => {
+            any = true;
+            true
+        }
+        Token::Word(w) => {
+            ["the", "all", "every", "each", "some"].contains(&w.as_str())
+                || VERBS.contains(&w.as_str())
+        }
+        _ => false,
+    });
+    only && any
+}
+
+/// Removes "from <goal>" / "out of <goal>" and returns the goal named there.
+fn take_source(tokens: &[Token]) -> (Vec<Token>, Option<usize>) {
+    let mut out = Vec::new();
+    let mut source = None;
+    let mut i = 0;
+    while i < tokens.len() {
+        let word = |k: usize, w: &str| matches!(tokens.get(k), Some(Token::Word(x)) if x == w);
+        let lead = if word(i, "from") {
+            1
+        } else if word(i, "out") && word(i + 1, "of") {
+            2
+        } else {
+            0
+        };
+        if lead > 0 {
+            let article = usize::from(word(i + lead, "the"));
+            if let Some(Token::Goal(g)) = tokens.get(i + lead + article) {
+                source = Some(*g);
+                i += lead + article + 1;
+                continue;
+            }
+        }
+        out.push(tokens[i].clone());
+        i += 1;
+    }
+    (out, source)
+}
+
 fn parse_clause(
     s: &Scenario,
     tokens: &[Token],
     previous: Option<Description>,
 ) -> Result<Option<Clause>, InstructionError> {
+    let (tokens, source) = take_source(tokens);
+    let tokens = tokens.as_slice();
     let split = tokens
         .iter()
         .position(|t| {
@@ -249,17 +337,19 @@ fn parse_clause(
         )));
     }
     if description.generic
-        && description.colour.is_none()
-        && description.shape.is_none()
         && let Some(prev) = previous
     {
-        description.colour = prev.colour;
-        description.shape = prev.shape;
+        // "the blue ones" keeps the previous noun; "them" keeps all of it.
+        description.shape = description.shape.or(prev.shape);
+        if description.colours.is_empty() {
+            description.colours = prev.colours;
+        }
     }
     Ok(Some(Clause {
         quantity,
         description,
         goal,
+        source,
         text,
     }))
 }
@@ -319,12 +409,17 @@ fn nearest_goal_to_pointing(s: &Scenario) -> Result<usize, InstructionError> {
         .ok_or_else(|| InstructionError::new("it says \"here\" but the scene has no goal"))
 }
 
-fn parse_objects(s: &Scenario, tokens: &[Token]) -> (Option<Quantity>, Description) {
-    let colours: BTreeSet<String> = COLOURS
+/// Known colour words: the built-in list and every object's colour.
+fn colour_words(s: &Scenario) -> BTreeSet<String> {
+    COLOURS
         .iter()
         .map(|c| c.to_string())
         .chain(s.objects.iter().map(|o| o.color.to_lowercase()))
-        .collect();
+        .collect()
+}
+
+fn parse_objects(s: &Scenario, tokens: &[Token]) -> (Option<Quantity>, Description) {
+    let colours = colour_words(s);
     let shapes: BTreeSet<String> = SHAPES
         .iter()
         .map(|c| c.to_string())
@@ -343,7 +438,7 @@ fn parse_objects(s: &Scenario, tokens: &[Token]) -> (Option<Quantity>, Descripti
             _ => continue,
         };
         if colours.contains(w) {
-            d.colour = Some(w.to_string());
+            d.colours.push(w.to_string());
             adjective_seen = true;
         } else if let Some(shape) = singular_of(w, &shapes) {
             d.shape = Some(shape);
@@ -422,9 +517,8 @@ fn choose(
     let matches = |i: &usize| {
         let o = &s.objects[*i];
         (d.named.is_empty() || d.named.contains(i))
-            && d.colour
-                .as_ref()
-                .is_none_or(|c| o.color.eq_ignore_ascii_case(c))
+            && (d.colours.is_empty() || d.colours.iter().any(|c| o.color.eq_ignore_ascii_case(c)))
+            && clause.source.is_none_or(|g| s.goal_holding(o) == Some(g))
             && d.shape
                 .as_ref()
                 .is_none_or(|c| o.shape.eq_ignore_ascii_case(c))

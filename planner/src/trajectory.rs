@@ -10,7 +10,7 @@
 //! the controller rate; the pieces are joined end to end.
 
 use afford_kinematics::{Arm, RobotModel};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::scenario::Scenario;
 use crate::timing::{
@@ -19,7 +19,7 @@ use crate::timing::{
 };
 
 /// Open or close the gripper.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum GripperCommand {
     Close,
@@ -27,14 +27,14 @@ pub enum GripperCommand {
 }
 
 /// A gripper command at a time along the trajectory.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct GripperEvent {
     pub time_from_start: f64,
     pub command: GripperCommand,
 }
 
 /// The timed motion of one sub-goal.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TimedMotion {
     /// Samples at the controller rate (positions, velocities, accelerations, time).
     pub points: Vec<crate::timing::TrajectoryPoint>,

@@ -1,6 +1,7 @@
 //! Command-line interface: argument definitions and one function per command.
 
 mod bench;
+mod check;
 mod output;
 mod plan;
 mod robots;
@@ -24,6 +25,8 @@ pub enum Command {
     Plan(PlanArgs),
     /// Parse a scenario and explain it (objects, margins, sub-goals, grids) without planning.
     Validate(ValidateArgs),
+    /// Re-check a trajectory file (the output of `afford plan`) against its scenario: limits and collisions with margins.
+    Check(CheckArgs),
     /// List the built-in robots with their arms, degrees of freedom and reach.
     Robots(RobotsArgs),
     /// Run a benchmark.
@@ -74,6 +77,14 @@ impl From<Until> for afford_planner::Stage {
             Until::Trajectory => Self::Trajectory,
         }
     }
+}
+
+#[derive(Debug, clap::Args)]
+pub struct CheckArgs {
+    /// The scenario the trajectories were planned for.
+    pub scenario: PathBuf,
+    /// The plan file with trajectories (JSON or YAML), as written by `afford plan`.
+    pub trajectory: PathBuf,
 }
 
 #[derive(Debug, clap::Args)]
@@ -174,6 +185,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Plan(args) => plan::run(&args),
         Command::Validate(args) => validate::run(&args),
         Command::Robots(args) => robots::run(&args),
+        Command::Check(args) => check::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
