@@ -5,7 +5,13 @@ use std::io::IsTerminal;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{BenchCqlArgs, BenchIkArgs, BenchSeedArgs, ExitKind, Failure};
+use std::path::Path;
+
+use afford_planner::PlanOptions;
+use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
+
+use super::plan::load;
+use super::{BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSeedArgs, ExitKind, Failure};
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
     if args.scenarios == 0 {
@@ -95,6 +101,56 @@ pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
             report.pair_queries_per_s
         );
     }
+    Ok(())
+}
+
+pub fn timing(args: &BenchSeedArgs) -> Result<(), Failure> {
+    let report = timing_benchmark(&TimingBenchSettings {
+        seed: args.seed,
+        ..TimingBenchSettings::default()
+    });
+    print_report(&report, args.json)
+}
+
+pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
+    if args.runs == 0 {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--runs must be at least 1",
+        ));
+    }
+    let scenario = load(args.scenario.as_deref())?;
+    let base_dir = args
+        .scenario
+        .as_deref()
+        .and_then(Path::parent)
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let options = PlanOptions {
+        base_dir,
+        ..PlanOptions::default()
+    };
+    let bar = progress_bar(args.runs as u64, "runs");
+    let report = afford_planner::bench::pipeline::run(&scenario, &options, args.runs, |k| {
+        bar.set_position(k as u64)
+    })
+    .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    bar.finish_and_clear();
+    print_report(&report, args.json)
+}
+
+/// A report as pretty JSON, or as indented YAML for people.
+fn print_report<T: serde::Serialize>(report: &T, json: bool) -> Result<(), Failure> {
+    let text = if json {
+        serde_json::to_string_pretty(report).map_err(|e| e.to_string())
+    } else {
+        serde_saphyr::to_string(report).map_err(|e| e.to_string())
+    };
+    println!(
+        "{}",
+        text.map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?
+            .trim_end()
+    );
     Ok(())
 }
 

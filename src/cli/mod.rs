@@ -107,6 +107,8 @@ pub struct ValidateArgs {
 pub enum OutputFormat {
     Json,
     Yaml,
+    /// One row per trajectory sample.
+    Csv,
 }
 
 #[derive(Debug, Subcommand)]
@@ -117,6 +119,22 @@ pub enum BenchCommand {
     Ik(BenchIkArgs),
     /// Collision checks: the fast continuous check against dense sampling on random paths, and its speed.
     Collision(BenchSeedArgs),
+    /// Time-parameterisation of seeded 7-joint paths (200 segments), Clarabel.
+    Timing(BenchSeedArgs),
+    /// The whole pipeline on a scenario (default: the embedded one), stage by stage.
+    Pipeline(BenchPipelineArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchPipelineArgs {
+    /// Scenario file; omitted: the built-in default scenario.
+    pub scenario: Option<PathBuf>,
+    /// Repetitions.
+    #[arg(long, default_value_t = 21)]
+    pub runs: usize,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -189,5 +207,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
+        Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
+        Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
     }
 }

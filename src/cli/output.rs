@@ -11,7 +11,9 @@ use super::{ExitKind, Failure, OutputFormat};
 pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, Failure> {
     let text = match format {
         OutputFormat::Json => serde_json::to_string_pretty(value).map_err(|e| e.to_string()),
-        OutputFormat::Yaml => serde_saphyr::to_string(value).map_err(|e| e.to_string()),
+        OutputFormat::Yaml | OutputFormat::Csv => {
+            serde_saphyr::to_string(value).map_err(|e| e.to_string())
+        }
     };
     text.map(|t| if t.ends_with('\n') { t } else { t + "\n" })
         .map_err(|e| {
@@ -25,13 +27,13 @@ pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, F
 /// Writes `text` to `path` atomically, or to stdout when `path` is `None`.
 pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
     let Some(path) = path else {
-        std::io::stdout().write_all(text.as_bytes()).map_err(|e| {
-            Failure::new(
+        return match std::io::stdout().write_all(text.as_bytes()) {
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::new(
                 ExitKind::CouldNotPlan,
                 format!("cannot write to standard output: {e}"),
-            )
-        })?;
-        return Ok(());
+            )),
+            _ => Ok(()), // a reader that stops early (`| head`) is not an error
+        };
     };
     let bad = |e: std::io::Error| {
         Failure::new(
@@ -43,4 +45,57 @@ pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
     tmp.push(".partial");
     std::fs::write(&tmp, text).map_err(bad)?;
     std::fs::rename(&tmp, path).map_err(bad)
+}
+
+/// The trajectories of a plan as CSV, one row per sample: sub-goal index,
+/// object, arm, time, gripper state, then positions `q1…qn`, velocities
+/// `v1…vn` and accelerations `a1…an` in the order of that sub-goal's
+/// `joint_names`. Time restarts at 0 with each sub-goal.
+pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
+    let dof = plan
+        .subgoals
+        .iter()
+        .filter_map(|s| s.joint_names.as_ref())
+        .map(Vec::len)
+        .max();
+    let Some(dof) = dof.filter(|_| plan.subgoals.iter().all(|s| s.trajectory.is_some())) else {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--format csv needs trajectories: use --until trajectory",
+        ));
+    };
+    let names = |prefix: char| (1..=dof).map(move |j| format!("{prefix}{j}"));
+    let header: Vec<String> = ["subgoal", "object", "arm", "time_from_start", "gripper"]
+        .into_iter()
+        .map(String::from)
+        .chain(names('q'))
+        .chain(names('v'))
+        .chain(names('a'))
+        .collect();
+    let mut out = header.join(",") + "\n";
+    for (k, s) in plan.subgoals.iter().enumerate() {
+        let Some(t) = &s.trajectory else { continue };
+        let (close, open) = t.gripper_samples();
+        for (i, p) in t.points.iter().enumerate() {
+            let gripper = if (close..open).contains(&i) {
+                "closed"
+            } else {
+                "open"
+            };
+            let values = p
+                .positions
+                .iter()
+                .chain(&p.velocities)
+                .chain(&p.accelerations);
+            let numbers: Vec<String> = values.map(|v| format!("{v}")).collect();
+            let arm = s.arm.as_deref().unwrap_or("");
+            out.push_str(&format!(
+                "{k},{},{arm},{},{gripper},{}\n",
+                s.object,
+                p.time_from_start,
+                numbers.join(",")
+            ));
+        }
+    }
+    Ok(out)
 }

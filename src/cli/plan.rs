@@ -6,8 +6,8 @@ use afford_planner::scenario::{self, Scenario};
 use afford_planner::timing::TimingSettings;
 use afford_planner::{PlanError, PlanOptions, plan};
 
-use super::output::{emit, render};
-use super::{ExitKind, Failure, PlanArgs};
+use super::output::{emit, render, render_csv};
+use super::{ExitKind, Failure, OutputFormat, PlanArgs};
 
 pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     let mut scenario = load(args.scenario.as_deref())?;
@@ -36,7 +36,11 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         }
         _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
     })?;
-    emit(&render(&plan, args.format)?, args.output.as_deref())?;
+    let text = match args.format {
+        OutputFormat::Csv => render_csv(&plan)?,
+        format => render(&plan, format)?,
+    };
+    emit(&text, args.output.as_deref())?;
     if plan.unsolved.is_empty() {
         return Ok(());
     }

@@ -1,9 +1,10 @@
 //! Benchmarks behind `afford bench`: seeded scene generation and the CQL
 //! experiment that reproduces the paper's Table 1 (CQL against QL, measured
-//! against the BFS oracle).
+//! against the BFS oracle), and the whole pipeline stage by stage.
 
 pub mod cql;
 pub mod generator;
+pub mod pipeline;
 
 /// Median of a sample (mean of the two middle values); 0 when empty.
 pub fn median(values: &[f64]) -> f64 {
