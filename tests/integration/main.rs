@@ -5,5 +5,6 @@ mod cli;
 mod cql_properties;
 mod examples;
 mod instructions;
+mod pipeline;
 mod scenario_errors;
 mod util;
