@@ -655,8 +655,8 @@ fn main() {
     for (name, gap, desc) in [
         (
             "cob-right-tool-hand-perimeter-entered",
-            0.0,
-            "Right gripper descends to its home height, 0.15 m (TCP) over a hand's top (perimeter 0.10 m); the gripper body reaches below the TCP.",
+            -0.06,
+            "Right gripper descends to 0.09 m (TCP) over a hand's top (perimeter 0.10 m); the fingers reach 0.016 m below the TCP.",
         ),
         (
             "cob-right-tool-hand-perimeter-kept",
