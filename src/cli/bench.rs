@@ -5,12 +5,10 @@ use std::io::IsTerminal;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use std::path::Path;
-
 use afford_planner::PlanOptions;
 use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 
-use super::plan::load;
+use super::plan::{base_dir, load};
 use super::{BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSeedArgs, ExitKind, Failure};
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
@@ -120,14 +118,8 @@ pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
         ));
     }
     let scenario = load(args.scenario.as_deref())?;
-    let base_dir = args
-        .scenario
-        .as_deref()
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
     let options = PlanOptions {
-        base_dir,
+        base_dir: base_dir(args.scenario.as_deref()),
         ..PlanOptions::default()
     };
     let bar = progress_bar(args.runs as u64, "runs");

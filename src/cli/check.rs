@@ -5,13 +5,12 @@ use std::path::Path;
 use afford_kinematics::RobotModel;
 use afford_planner::verify::{TrajectoryFile, check_trajectories};
 
-use super::plan::load;
+use super::plan::{base_dir, load};
 use super::{CheckArgs, ExitKind, Failure};
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let scenario = load(Some(&args.scenario))?;
-    let base_dir = args.scenario.parent().unwrap_or(Path::new("."));
-    let robot = RobotModel::load(&scenario.robot.model, base_dir)
+    let robot = RobotModel::load(&scenario.robot.model, &base_dir(Some(&args.scenario)))
         .map_err(|e| Failure::new(ExitKind::BadInput, format!("robot: {e}")))?;
     let file = read_trajectories(&args.trajectory)?;
     let violations = check_trajectories(&scenario, &robot, &file)

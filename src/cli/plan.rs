@@ -1,6 +1,6 @@
 //! `afford plan`: scenario file → discrete plan.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use afford_planner::scenario::{self, Scenario};
 use afford_planner::timing::TimingSettings;
@@ -14,16 +14,10 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args));
     }
-    let base_dir = args
-        .scenario
-        .as_deref()
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default();
     let options = PlanOptions {
         seed: args.seed,
         until: args.until.into(),
-        base_dir,
+        base_dir: base_dir(args.scenario.as_deref()),
         timing: TimingSettings {
             rate_hz: args.rate,
             ..TimingSettings::default()
@@ -56,6 +50,14 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
             reasons.join("\n  - ")
         ),
     ))
+}
+
+/// The folder a scenario's relative paths start from: the file's folder.
+pub fn base_dir(scenario: Option<&Path>) -> PathBuf {
+    scenario
+        .and_then(Path::parent)
+        .map(Path::to_path_buf)
+        .unwrap_or_default()
 }
 
 /// The scenario from the file argument, or the embedded default.
