@@ -2,3 +2,4 @@
 pub use afford_collision as collision;
 pub use afford_kinematics as kinematics;
 pub use afford_planner as planner;
+pub mod picture;
