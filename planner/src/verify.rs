@@ -9,8 +9,9 @@
 //!   between consecutive samples is no faster than the velocity limit;
 //! - the motion, linear between samples, keeps every safety margin
 //!   (continuous check; target ignored until the gripper closes, held
-//!   until it opens);
-//! then the world moves on: the object rests where the gripper opened.
+//!   until it opens).
+//!
+//! Then the world moves on: the object rests where the gripper opened.
 
 use afford_collision::RobotGeometry;
 use afford_kinematics::{Arm, RobotModel};

@@ -47,6 +47,9 @@ pub struct PlanArgs {
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Also draw the plan as an SVG picture: top view (grid, perimeters, paths, arm) and joint curves against their limits.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
     /// Controller sampling rate of the trajectory, Hz.
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,

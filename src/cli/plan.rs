@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use afford_kinematics::RobotModel;
 use afford_planner::scenario::{self, Scenario};
 use afford_planner::timing::TimingSettings;
 use afford_planner::{PlanError, PlanOptions, plan};
@@ -35,6 +36,13 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         format => render(&plan, format)?,
     };
     emit(&text, args.output.as_deref())?;
+    if let Some(svg) = &args.svg {
+        let robot = RobotModel::load(&scenario.robot.model, &options.base_dir).ok();
+        let picture = afford::picture::plan_svg(&scenario, &plan, robot.as_ref()).map_err(|e| {
+            Failure::new(ExitKind::CouldNotPlan, format!("cannot draw the plan: {e}"))
+        })?;
+        emit(&picture, Some(svg))?;
+    }
     if plan.unsolved.is_empty() {
         return Ok(());
     }
