@@ -190,7 +190,7 @@ impl Planner {
             ),
             false => None,
         };
-        let joints = robot.as_ref().map_or_else(Vec::new, |r| r.home().to_vec());
+        let joints = robot.as_ref().map_or_else(Vec::new, parked_home);
         let geometry = match &robot {
             Some(r) => Some(RobotGeometry::new(r).map_err(|e| PlanError::Robot(e.to_string()))?),
             None => None,
@@ -252,17 +252,18 @@ impl Planner {
         seed: u64,
         timings: &mut StageTimings,
     ) -> Result<SubgoalPlan, String> {
-        let mut blocked = Vec::new();
+        let mut retry = Retry::default();
         loop {
-            let hit = match self.attempt(world, goal, request, &blocked, seed, timings)? {
+            let hit = match self.attempt(world, goal, request, &retry, seed, timings)? {
                 Attempt::Planned(done) => return Ok(*done),
                 Attempt::Collides(hit) => hit,
             };
             let cell = hit
                 .replannable_cell
-                .filter(|_| blocked.len() < self.options.max_replans);
+                .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
-                Some(cell) if !blocked.contains(&cell) => blocked.push(cell),
+                Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
+                _ if hit.at_grasp && !retry.flipped => retry.flipped = true,
                 _ => return Err(format!("the motion collides: {}", hit.message)),
             }
         }
@@ -275,11 +276,11 @@ impl Planner {
         world: &World,
         goal: &SubGoal,
         request: GridRequest,
-        blocked: &[Cell],
+        retry: &Retry,
         seed: u64,
         timings: &mut StageTimings,
     ) -> Result<Attempt, String> {
-        let (options, scene) = (&self.options, &world.scene);
+        let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
         let task = timed(&mut timings.grid, || {
             let mut grid = StateGrid::build(scene, request);
             blocked.iter().for_each(|&cell| grid.block(cell));
@@ -306,7 +307,7 @@ impl Planner {
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
-        let motion = timed(&mut timings.lift, || {
+        let mut motion = timed(&mut timings.lift, || {
             lift(
                 scene,
                 &task,
@@ -317,6 +318,12 @@ impl Planner {
                 &options.lift,
             )
         });
+        if retry.flipped {
+            motion
+                .waypoints
+                .iter_mut()
+                .for_each(|w| w.yaw += std::f64::consts::PI);
+        }
         let (Some(robot), Some(geometry)) = (&world.robot, &world.geometry) else {
             done.waypoints = Some(motion);
             return Ok(Attempt::Planned(Box::new(done)));
@@ -325,10 +332,23 @@ impl Planner {
             solve_motion(robot, &motion, &world.joints, &options.ik, seed)
         })?;
         let arm = &robot.arms()[choice.arm_index];
-        let joint_path: Vec<Vec<f64>> = std::iter::once(arm.extract(&world.joints))
+        let start = arm.extract(&world.joints);
+        let first = choice
+            .path
+            .waypoints
+            .first()
+            .cloned()
+            .unwrap_or_else(|| start.clone());
+        let lead = leave_park(arm, &start, &first);
+        // joint_path[lead.len() + 1 + k] is tool waypoint k.
+        let offset = lead.len();
+        let mut joint_path: Vec<Vec<f64>> = std::iter::once(start.clone())
+            .chain(lead)
             .chain(choice.path.waypoints)
             .collect();
+        joint_path.extend(return_to_park(arm, &world.joints, &joint_path));
         let (grasp_at, release_at) = motion.gripper_switches();
+        let (grasp_at, release_at) = (grasp_at + offset, release_at + offset);
         let check = ArmMotion {
             scenario: scene,
             target: request.object,
@@ -343,7 +363,7 @@ impl Planner {
             check_motion(robot, geometry, &check)
         })? {
             return Ok(Attempt::Collides(Box::new(Replan::of(
-                hit, scene, &task, &motion,
+                hit, offset, scene, &task, &motion,
             ))));
         }
         if options.until >= Stage::Trajectory {
@@ -388,6 +408,16 @@ impl Planner {
     }
 }
 
+/// What a sub-goal's next pass does differently after a collision.
+#[derive(Debug, Default)]
+struct Retry {
+    /// Cells the arm collided over, blocked in the grid.
+    blocked: Vec<Cell>,
+    /// Grasp with the tool turned half a turn (a hand whose open finger
+    /// sticks out to one side then has it on the other).
+    flipped: bool,
+}
+
 /// The outcome of one pass through the stages.
 enum Attempt {
     Planned(Box<SubgoalPlan>),
@@ -402,19 +432,36 @@ struct Replan {
     /// waypoint over a cell that may be blocked (not the start, the target or
     /// the goal).
     replannable_cell: Option<Cell>,
+    /// The hit is where the hand closes or opens on the object (approach,
+    /// grasp, lift, release): turning the tool may avoid it.
+    at_grasp: bool,
 }
 
 impl Replan {
-    fn of(hit: PathHit, scene: &Scenario, task: &GridTask, motion: &LiftedMotion) -> Self {
+    /// `offset`: joint-path configurations between the start and the first
+    /// waypoint (the way out of park).
+    fn of(
+        hit: PathHit,
+        offset: usize,
+        scene: &Scenario,
+        task: &GridTask,
+        motion: &LiftedMotion,
+    ) -> Self {
         let grid = &task.grid;
-        let at = motion.waypoint_of(hit.index);
+        let at = hit
+            .index
+            .checked_sub(offset)
+            .and_then(|i| motion.waypoint_of(i));
         let message = match at {
             Some((k, phase)) => format!(
                 "{} waypoint {k}: {}",
                 format!("{phase:?}").to_lowercase(),
                 hit.collision
             ),
-            None => format!("on the way to the first waypoint: {}", hit.collision),
+            None if hit.index <= offset => {
+                format!("on the way to the first waypoint: {}", hit.collision)
+            }
+            None => format!("returning to park: {}", hit.collision),
         };
         let cell = at
             .filter(|(_, phase)| matches!(phase, Phase::Travel | Phase::Carry))
@@ -423,9 +470,16 @@ impl Replan {
             .filter(|&cell| {
                 cell != grid.start && cell != grid.target && grid.code(cell) == CellCode::Empty
             });
+        let at_grasp = at.is_some_and(|(_, p)| {
+            matches!(
+                p,
+                Phase::Approach | Phase::Grasp | Phase::Lift | Phase::Release
+            )
+        });
         Self {
             message,
             replannable_cell: cell,
+            at_grasp,
         }
     }
 }
@@ -446,6 +500,66 @@ impl World {
             arm.insert(&mut self.joints, last);
         }
     }
+}
+
+/// The robot's configuration before the first sub-goal: home, with every
+/// arm that has a park posture parked. On a robot with several arms the one
+/// that works leaves park and comes back to it ([`return_to_park`]), so the
+/// others are always out of its way and nothing moves unplanned.
+fn parked_home(robot: &RobotModel) -> Vec<f64> {
+    let mut q = robot.home().to_vec();
+    for &(i, v) in robot.arms().iter().flat_map(|a| &a.park) {
+        q[i] = v;
+    }
+    q
+}
+
+/// The arm's way back to its park posture after its last waypoint, through
+/// its home posture, in joint steps of at most 0.05 rad; empty for an arm
+/// without a park posture.
+fn return_to_park(arm: &afford_kinematics::Arm, rest: &[f64], path: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let Some(last) = path.last().filter(|_| !arm.park.is_empty()) else {
+        return Vec::new();
+    };
+    let mut full = rest.to_vec();
+    for &(i, v) in &arm.park {
+        full[i] = v;
+    }
+    let park = arm.extract(&full);
+    let mut out = joint_steps(last, &arm.home);
+    out.extend(joint_steps(&arm.home, &park));
+    out
+}
+
+/// The way from a parked arm to its path's first configuration, through its
+/// home posture; empty for an arm without a park posture.
+fn leave_park(arm: &afford_kinematics::Arm, start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
+    if arm.park.is_empty() {
+        return Vec::new();
+    }
+    let mut out = joint_steps(start, &arm.home);
+    out.extend(joint_steps(&arm.home, first));
+    out.pop();
+    out
+}
+
+/// Configurations from `a` (excluded) to `b` (included), straight in joint
+/// space, no joint moving more than 0.05 rad per step.
+fn joint_steps(a: &[f64], b: &[f64]) -> Vec<Vec<f64>> {
+    let largest = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    let steps = (largest / 0.05).ceil() as usize;
+    (1..=steps)
+        .map(|k| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| x + k as f64 / steps as f64 * (y - x))
+                .collect()
+        })
+        .collect()
 }
 
 /// Plans `scenario` with `options`: `Planner::new(options).plan(scenario)`.
