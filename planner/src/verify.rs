@@ -225,24 +225,27 @@ fn check_limits(robot: &RobotModel, arm: &Arm, t: &TimedMotion) -> Found {
                     ),
                 ));
             }
-            if over(p.velocities[j], limits.velocity[j]) {
-                let (v, limit) = (p.velocities[j], limits.velocity[j]);
-                found.push((
+            let rates = [
+                (
                     "velocity",
-                    format!(
-                        "{name} at t = {:.3} s moves at {v:.4} rad/s, limit {limit:.4}",
-                        p.time_from_start
-                    ),
-                ));
-            }
-            if over(p.accelerations[j], limits.acceleration[j]) {
-                let (a, limit) = (p.accelerations[j], limits.acceleration[j]);
-                found.push((
+                    p.velocities[j],
+                    limits.velocity[j],
+                    "moves at",
+                    "rad/s",
+                ),
+                (
                     "acceleration",
-                    format!(
-                        "{name} at t = {:.3} s accelerates at {a:.4} rad/s², limit {limit:.4}",
-                        p.time_from_start
-                    ),
+                    p.accelerations[j],
+                    limits.acceleration[j],
+                    "accelerates at",
+                    "rad/s²",
+                ),
+            ];
+            for (kind, value, limit, verb, unit) in rates.into_iter().filter(|r| over(r.1, r.2)) {
+                let t = p.time_from_start;
+                found.push((
+                    kind,
+                    format!("{name} at t = {t:.3} s {verb} {value:.4} {unit}, limit {limit:.4}"),
                 ));
             }
             if k > 0 {
