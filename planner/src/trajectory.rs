@@ -81,6 +81,7 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
     let limits = arm_limits(r.robot, r.arm);
     let hands = hands(r.scenario);
     let (grasp, release) = r.switches;
+    let total = chord(r.path).max(f64::EPSILON);
     let mut motion = TimedMotion {
         points: Vec::new(),
         gripper: Vec::new(),
@@ -99,7 +100,14 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
             hands: hands.clone(),
             rule: r.separation.clone(),
         };
-        let timing = time_parameterize(piece, &limits, Some(&proximity), r.settings)
+        // The sub-goal's segments are shared by the pieces by length, so the
+        // whole path is discretised as finely as one path of `path_points`.
+        let share = (r.settings.path_points as f64 * chord(piece) / total).round() as usize;
+        let settings = TimingSettings {
+            path_points: share.max(MIN_PIECE_SEGMENTS),
+            ..r.settings.clone()
+        };
+        let timing = time_parameterize(piece, &limits, Some(&proximity), &settings)
             .map_err(|e| e.to_string())?;
         let trajectory = timing
             .trajectory
@@ -113,6 +121,22 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
         }
     }
     Ok(motion)
+}
+
+/// Fewest path segments for one piece of a sub-goal's path.
+pub const MIN_PIECE_SEGMENTS: usize = 40;
+
+/// Joint-space length of a path (sum of Euclidean steps), rad.
+fn chord(path: &[Vec<f64>]) -> f64 {
+    path.windows(2)
+        .map(|w| {
+            w[0].iter()
+                .zip(&w[1])
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .sum()
 }
 
 /// Appends a piece that starts where the motion ends (at rest), dropping its

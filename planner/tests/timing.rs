@@ -362,7 +362,7 @@ fn settings_deny_unknown_fields_and_fill_defaults() {
     assert!(serde_json::from_str::<SeparationSettings>(r#"{"speed": 1}"#).is_err());
     assert!(serde_json::from_str::<TimingSettings>(r#"{"rate": 1}"#).is_err());
     let t: TimingSettings = serde_json::from_str(r#"{"rate_hz": 250}"#).unwrap();
-    assert_eq!(t.path_points, 200);
+    assert_eq!(t.path_points, 300);
 }
 
 /// Writes a JSON case for `scripts/toppra_reference.py` (not run by default):

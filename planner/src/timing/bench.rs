@@ -88,7 +88,10 @@ pub struct TimingBenchReport {
 pub fn timing_benchmark(bench: &TimingBenchSettings) -> TimingBenchReport {
     let mut rng = ChaCha8Rng::seed_from_u64(bench.seed);
     let limits = iiwa_limits();
-    let settings = TimingSettings::default();
+    let settings = TimingSettings {
+        path_points: 200,
+        ..TimingSettings::default()
+    };
     let (mut total, mut solve, mut iterations, mut durations) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut solved = 0;
