@@ -141,22 +141,19 @@ pub fn verify(
 ) -> Result<(), LimitViolation> {
     for (k, p) in trajectory.points.iter().enumerate() {
         for j in 0..velocity.len() {
-            if !within(p.velocities[j], velocity[j], tolerance) {
+            let checks = [
+                (LimitKind::Velocity, p.velocities[j], velocity[j]),
+                (LimitKind::Acceleration, p.accelerations[j], acceleration[j]),
+            ];
+            if let Some((kind, value, limit)) =
+                checks.into_iter().find(|c| !within(c.1, c.2, tolerance))
+            {
                 return Err(LimitViolation {
-                    kind: LimitKind::Velocity,
+                    kind,
                     sample: k,
                     joint: j,
-                    value: p.velocities[j],
-                    limit: velocity[j],
-                });
-            }
-            if !within(p.accelerations[j], acceleration[j], tolerance) {
-                return Err(LimitViolation {
-                    kind: LimitKind::Acceleration,
-                    sample: k,
-                    joint: j,
-                    value: p.accelerations[j],
-                    limit: acceleration[j],
+                    value,
+                    limit,
                 });
             }
         }
