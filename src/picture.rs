@@ -585,9 +585,10 @@ impl JointRows {
         for (k, sub) in plan.subgoals.iter().enumerate() {
             let Some(t) = &sub.trajectory else { continue };
             for e in &t.gripper {
-                let x = self.offsets[k] + e.time_from_start;
-                let line = [(x, lo), (x, hi)];
-                chart.draw_series(DashedLineSeries::new(line, 2, 3, grey.stroke_width(1)))?;
+                for x in [e.start, e.end].map(|t| self.offsets[k] + t) {
+                    let line = [(x, lo), (x, hi)];
+                    chart.draw_series(DashedLineSeries::new(line, 2, 3, grey.stroke_width(1)))?;
+                }
             }
         }
         Ok(())

@@ -30,7 +30,7 @@ pub use bench::{
 };
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
-pub use description::{DESCRIPTION_FORMAT, Gripper};
+pub use description::{DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT, Gripper, MAX_GRIPPER_TIME};
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use kchain::KBaseline;

@@ -331,6 +331,16 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
     }
     skip.sort_unstable();
     skip.dedup();
+    for (k, finger) in d.gripper.fingers.iter().enumerate() {
+        if !names_a_collider(&links, finger) {
+            return Err(err(
+                format!("gripper.fingers[{k}]"),
+                format!(
+                    "'{finger}' names no collider (write 'link' for a link with one collider, 'link#k' for its k-th of several)"
+                ),
+            ));
+        }
+    }
     Ok(RobotModel {
         name: d.name.clone(),
         source: String::new(),
@@ -338,7 +348,23 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         joints,
         arms,
         home,
-        gripper: d.gripper,
+        gripper: d.gripper.clone(),
         self_collision_skip: skip,
+    })
+}
+
+/// True when `body` names a collider the way the collision crate names its
+/// bodies: `link` for a link with one collider, `link#k` for the k-th of several.
+fn names_a_collider(links: &[Link], body: &str) -> bool {
+    let (link, index) = match body.rsplit_once('#') {
+        Some((link, k)) => (link, k.parse::<usize>().ok()),
+        None => (body, None),
+    };
+    links.iter().any(|l| {
+        l.name == link
+            && match index {
+                None => l.colliders.len() == 1,
+                Some(k) => l.colliders.len() > 1 && k < l.colliders.len(),
+            }
     })
 }

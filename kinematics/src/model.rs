@@ -221,8 +221,8 @@ impl RobotModel {
         &self.home
     }
 
-    pub fn gripper(&self) -> Gripper {
-        self.gripper
+    pub fn gripper(&self) -> &Gripper {
+        &self.gripper
     }
 
     /// Link index pairs never checked for self-collision (smaller index first).

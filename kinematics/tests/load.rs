@@ -46,6 +46,8 @@ fn builtin_models_carry_planning_data() {
     assert_eq!(m.joints()[3].acceleration, 11.36);
     assert!((m.joints()[6].upper - 3.05433).abs() < 1e-9);
     assert_eq!(m.gripper().max_opening, 0.08);
+    assert_eq!(m.gripper().fingers, ["gripper_link#1"]);
+    assert_eq!(m.gripper().closing_time, 0.5);
     let a = m.link_index("link_1").unwrap();
     let b = m.link_index("link_2").unwrap();
     assert!(m.skips_self_collision(a, b));
@@ -167,7 +169,7 @@ fn malformed_description_errors_name_file_and_element() {
     let urdf = urdf_with(
         "<joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"tip\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" velocity=\"1\"/></joint>",
     );
-    let cases: [(&str, &[&str]); 7] = [
+    let cases: [(&str, &[&str]); 9] = [
         (
             &DESC.replace("joints: [j1]", "joints: [j9]"),
             &["user/t.yaml", "arms[0].joints[0]", "'j9'"],
@@ -192,6 +194,14 @@ fn malformed_description_errors_name_file_and_element() {
         (
             &format!("{DESC}self_collision_skip: [[base, nowhere]]\n"),
             &["self_collision_skip[0]", "'nowhere'"],
+        ),
+        (
+            &format!("{DESC}gripper: {{fingers: [tip#3]}}\n"),
+            &["gripper.fingers[0]", "'tip#3'", "names no collider"],
+        ),
+        (
+            &format!("{DESC}gripper: {{closing_time: -1.0}}\n"),
+            &["gripper.closing_time", "-1"],
         ),
     ];
     for (desc, needles) in cases {

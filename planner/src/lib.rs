@@ -50,6 +50,6 @@ pub mod verify;
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};
 pub use grid::{CellCode, StateGrid};
-pub use plan::{Plan, PlanOptions, Planner, Stage, plan};
+pub use plan::{JointState, Plan, PlanOptions, Planner, Stage, plan};
 pub use scenario::Scenario;
 pub use task::{Action, GridTask};

@@ -79,6 +79,10 @@ pub struct Plan {
     pub seed: u64,
     /// The last stage that ran.
     pub until: Stage,
+    /// The whole robot's joint state at t = 0, where the first sub-goal's
+    /// trajectory starts (stage `joints` and later).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start_state: Option<JointState>,
     /// Planned sub-goals, in execution order.
     pub subgoals: Vec<SubgoalPlan>,
     /// Sub-goals that could not be planned, with the reason.
@@ -118,6 +122,16 @@ pub struct SubgoalPlan {
     /// The timed trajectory and gripper commands (stage `trajectory`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<TimedMotion>,
+}
+
+/// A joint state of the whole robot, in the shape of ROS
+/// `sensor_msgs/JointState` (positions only): rad for revolute and
+/// continuous joints, m for prismatic ones, in the robot's joint order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointState {
+    pub joint_names: Vec<String>,
+    pub positions: Vec<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -202,10 +216,15 @@ impl Planner {
             geometry,
             joints,
         };
+        let start_state = world.robot.as_ref().map(|r| JointState {
+            joint_names: r.joints().iter().map(|j| j.name.clone()).collect(),
+            positions: world.joints.clone(),
+        });
         let mut plan = Plan {
             scenario: scenario.name.clone().unwrap_or_default(),
             seed: options.seed,
             until: options.until,
+            start_state,
             subgoals: Vec::new(),
             unsolved: Vec::new(),
             timings: StageTimings::default(),

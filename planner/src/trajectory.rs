@@ -26,11 +26,15 @@ pub enum GripperCommand {
     Open,
 }
 
-/// A gripper command at a time along the trajectory.
+/// A gripper command and the time it takes, seconds from the start of the
+/// sub-goal's trajectory: the command is sent at `start` and the gripper has
+/// closed (opened) at `end`; the arm rests from `start` to `end`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GripperEvent {
-    pub time_from_start: f64,
     pub command: GripperCommand,
+    pub start: f64,
+    pub end: f64,
 }
 
 /// The timed motion of one sub-goal.
@@ -49,7 +53,7 @@ impl TimedMotion {
                 .gripper
                 .iter()
                 .find(|e| e.command == command)
-                .map_or(0.0, |e| e.time_from_start);
+                .map_or(0.0, |e| e.start);
             self.points
                 .iter()
                 .position(|p| p.time_from_start >= t - 1e-12)
@@ -114,9 +118,11 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
             .ok_or_else(|| format!("timing failed: {:?}", timing.status))?;
         append(&mut motion, trajectory);
         if let Some(command) = event {
+            let now = motion.duration();
             motion.gripper.push(GripperEvent {
-                time_from_start: motion.duration(),
                 command,
+                start: now,
+                end: now,
             });
         }
     }
