@@ -13,6 +13,9 @@ pub enum CollisionError {
     /// A path is malformed (too short, wrong joint count, non-finite value).
     #[error("path: {field}: {problem}")]
     Path { field: String, problem: String },
+    /// A setting is out of range (the field names the option).
+    #[error("{field}: {problem}")]
+    Settings { field: String, problem: String },
     /// The robot model could not be used.
     #[error("robot: {0}")]
     Kinematics(#[from] afford_kinematics::KinematicsError),

@@ -3,6 +3,8 @@
 //! checks with safety perimeters, built on parry3d (f64).
 //!
 //! Modules and what each owns:
+//! - [`acm`](AllowedCollisionMatrix): which link pairs the self-collision
+//!   check skips, derived from the geometry by sampling.
 //! - `convert`: the one nalgebra ↔ parry (glam) pose conversion (exact).
 //! - [`scene`](SceneSpec): the planner's scene description and the parry
 //!   shapes built from it (table, solid boxes, open goal boxes, perimeters).
@@ -21,6 +23,7 @@
 //! not only at samples. A hit is reported when a pair comes within
 //! [`CheckSettings::tolerance`] (0.1 mm) of its margin.
 
+mod acm;
 mod bench;
 mod check;
 mod convert;
@@ -32,6 +35,7 @@ mod robot;
 mod scene;
 mod sweep;
 
+pub use acm::{AcmSettings, AllowedCollisionMatrix, BLOCK as ACM_BLOCK, PairEntry};
 pub use bench::{
     BenchCase, CollisionBenchReport, CrossCheck, bench_case, collision_benchmark, cross_check,
     median_ms_arm_path, pair_queries_per_s, random_case,

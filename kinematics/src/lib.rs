@@ -10,6 +10,7 @@
 //! One pose type, [`Pose`] (nalgebra 0.30 `Isometry3<f64>`), is used throughout;
 //! k's types stay in the `kchain` module.
 
+mod adjacency;
 mod bench;
 mod builtin;
 mod chain;
@@ -30,7 +31,10 @@ pub use bench::{
 };
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
-pub use description::{DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT, Gripper, MAX_GRIPPER_TIME};
+pub use description::{
+    AllowedCollisions, AllowedPair, AllowedReason, DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT, Gripper,
+    MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
+};
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use kchain::KBaseline;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::builtin;
 use crate::chain::{Chain, ChainJoint, Motion};
-use crate::description::{self, Description};
+use crate::description::{self, AllowedReason, Description};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real};
 use crate::model::{Arm, Joint, JointKind, Link, RobotModel};
@@ -313,24 +313,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
             chain,
         });
     }
-    let mut skip = Vec::with_capacity(d.self_collision_skip.len());
-    for (k, [a, b]) in d.self_collision_skip.iter().enumerate() {
-        let ia = link_index(a).ok_or_else(|| {
-            err(
-                format!("self_collision_skip[{k}]"),
-                format!("link '{a}' is not in the URDF"),
-            )
-        })?;
-        let ib = link_index(b).ok_or_else(|| {
-            err(
-                format!("self_collision_skip[{k}]"),
-                format!("link '{b}' is not in the URDF"),
-            )
-        })?;
-        skip.push((ia.min(ib), ia.max(ib)));
-    }
-    skip.sort_unstable();
-    skip.dedup();
+    let self_collision_skip = allowed_pairs(&links, d, &err)?;
     for (k, finger) in d.gripper.fingers.iter().enumerate() {
         if !names_a_collider(&links, finger) {
             return Err(err(
@@ -349,7 +332,8 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         arms,
         home,
         gripper: d.gripper.clone(),
-        self_collision_skip: skip,
+        self_collision_skip,
+        allowed_collisions: d.allowed_collisions.clone(),
     })
 }
 
@@ -367,4 +351,44 @@ fn names_a_collider(links: &[Link], body: &str) -> bool {
                 Some(k) => l.colliders.len() > 1 && k < l.colliders.len(),
             }
     })
+}
+
+/// The link pairs skipped by the self-collision check: the adjacent pairs
+/// (always) and every pair of the description's `allowed_collisions`; a
+/// pair stored as `adjacent` must really be adjacent.
+fn allowed_pairs(
+    links: &[Link],
+    d: &Description,
+    err: &impl Fn(String, String) -> KinematicsError,
+) -> Result<Vec<(usize, usize)>, KinematicsError> {
+    let adjacent = crate::adjacency::adjacent_link_pairs(links);
+    let mut skip = adjacent.clone();
+    let stored = d.allowed_collisions.as_ref().map_or(&[][..], |a| &a.pairs);
+    for (k, entry) in stored.iter().enumerate() {
+        let field = format!("allowed_collisions.pairs[{k}]");
+        let index = |name: &str| {
+            links
+                .iter()
+                .position(|l| l.name == name)
+                .ok_or_else(|| err(field.clone(), format!("link '{name}' is not in the URDF")))
+        };
+        let (a, b) = (index(&entry.pair[0])?, index(&entry.pair[1])?);
+        if a == b {
+            return Err(err(field, format!("pairs link '{}' with itself", entry.pair[0])));
+        }
+        let key = (a.min(b), a.max(b));
+        if entry.reason == AllowedReason::Adjacent && !adjacent.contains(&key) {
+            return Err(err(
+                field,
+                format!(
+                    "'{}' and '{}' are not adjacent (not joined by one joint); re-derive the section with `afford robots acm`",
+                    entry.pair[0], entry.pair[1]
+                ),
+            ));
+        }
+        skip.push(key);
+    }
+    skip.sort_unstable();
+    skip.dedup();
+    Ok(skip)
 }

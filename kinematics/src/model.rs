@@ -7,7 +7,7 @@ use nalgebra::{Translation3, UnitQuaternion};
 use serde::Serialize;
 
 use crate::chain::Chain;
-use crate::description::Gripper;
+use crate::description::{AllowedCollisions, Gripper};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real, Vec3};
 
@@ -167,6 +167,7 @@ pub struct RobotModel {
     pub(crate) home: Vec<Real>,
     pub(crate) gripper: Gripper,
     pub(crate) self_collision_skip: Vec<(usize, usize)>,
+    pub(crate) allowed_collisions: Option<AllowedCollisions>,
 }
 
 impl RobotModel {
@@ -225,7 +226,14 @@ impl RobotModel {
         &self.gripper
     }
 
-    /// Link index pairs never checked for self-collision (smaller index first).
+    /// The description's `allowed_collisions` section as written (`None`:
+    /// only adjacent links are skipped).
+    pub fn allowed_collisions(&self) -> Option<&AllowedCollisions> {
+        self.allowed_collisions.as_ref()
+    }
+
+    /// Link index pairs never checked for self-collision (smaller index first):
+    /// the adjacent pairs and the description's `allowed_collisions`.
     pub fn self_collision_skip(&self) -> &[(usize, usize)] {
         &self.self_collision_skip
     }

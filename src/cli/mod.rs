@@ -27,7 +27,8 @@ pub enum Command {
     Validate(ValidateArgs),
     /// Re-check a trajectory file (the output of `afford plan`) against its scenario: limits and collisions with margins.
     Check(CheckArgs),
-    /// List the built-in robots with their arms, degrees of freedom and reach.
+    /// List the built-in robots with their arms, degrees of freedom and reach;
+    /// `afford robots acm ROBOT` derives a robot's allowed-collision matrix.
     Robots(RobotsArgs),
     /// Run a benchmark.
     #[command(subcommand)]
@@ -92,9 +93,33 @@ pub struct CheckArgs {
 
 #[derive(Debug, clap::Args)]
 pub struct RobotsArgs {
+    #[command(subcommand)]
+    pub command: Option<RobotsCommand>,
     /// Print the list as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum RobotsCommand {
+    /// Derive the allowed-collision matrix (which link pairs the self-collision check skips) from
+    /// the robot's geometry and print the `allowed_collisions:` block for its description file.
+    Acm(AcmArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct AcmArgs {
+    /// A built-in robot name or a robot description file (.yaml, or a .urdf with its .yaml beside it).
+    pub robot: String,
+    /// Random configurations to sample (uniform within the joint limits).
+    #[arg(long, default_value_t = afford_collision::AcmSettings::default().samples)]
+    pub samples: u64,
+    /// Seed of the sampler.
+    #[arg(long, default_value_t = afford_collision::AcmSettings::default().seed)]
+    pub seed: u64,
+    /// A pair is skipped as `never` only when it stays farther apart than this in every sample, metres.
+    #[arg(long, default_value_t = afford_collision::AcmSettings::default().clearance)]
+    pub clearance: f64,
 }
 
 #[derive(Debug, clap::Args)]
@@ -205,6 +230,10 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Plan(args) => plan::run(&args),
         Command::Validate(args) => validate::run(&args),
+        Command::Robots(RobotsArgs {
+            command: Some(RobotsCommand::Acm(args)),
+            ..
+        }) => robots::acm(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),

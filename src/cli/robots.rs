@@ -1,6 +1,12 @@
-//! `afford robots`: the built-in robots, their arms, DOF and reach.
+//! `afford robots`: the built-in robots, their arms, DOF and reach; `afford
+//! robots acm`: a robot's allowed-collision matrix (afford-collision `acm`).
 
-use super::{ExitKind, Failure, RobotsArgs};
+use std::path::Path;
+
+use afford_collision::{AcmSettings, AllowedCollisionMatrix};
+use afford_kinematics::RobotModel;
+
+use super::{AcmArgs, ExitKind, Failure, RobotsArgs};
 
 pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
     let robots = afford_kinematics::builtin_robots()
@@ -25,5 +31,22 @@ pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
             );
         }
     }
+    Ok(())
+}
+
+/// Derives the matrix of a built-in robot or a description file and prints
+/// the `allowed_collisions:` block (bad robot or settings: exit 2).
+pub fn acm(args: &AcmArgs) -> Result<(), Failure> {
+    let bad = |e: String| Failure::new(ExitKind::BadInput, e);
+    let model = RobotModel::load(&args.robot, Path::new(".")).map_err(|e| bad(e.to_string()))?;
+    let settings = AcmSettings {
+        samples: args.samples,
+        seed: args.seed,
+        clearance: args.clearance,
+        ..AcmSettings::default()
+    };
+    let matrix = AllowedCollisionMatrix::derive(&model, &settings)
+        .map_err(|e| bad(format!("afford robots acm: {e}")))?;
+    print!("{}", matrix.to_yaml());
     Ok(())
 }
