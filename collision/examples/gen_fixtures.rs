@@ -546,10 +546,6 @@ fn main() {
     // --- Care-O-bot 4 -----------------------------------------------------
     let ch = cob.home().to_vec();
     let r1 = cob.joint_index("arm_right_1_joint").unwrap();
-    let l1 = cob.joint_index("arm_left_1_joint").unwrap();
-    let r2 = cob.joint_index("arm_right_2_joint").unwrap();
-    let l2 = cob.joint_index("arm_left_2_joint").unwrap();
-    let _ = (r2, l2);
     let cob_scene = SceneSpec {
         table_z: 0.75,
         table: Some(TableSpec {
@@ -564,53 +560,23 @@ fn main() {
         table: None,
         boxes: vec![],
     };
-    let _ = l1;
-    // The right gripper reaching over to where the left gripper is: search a
-    // grid of right-arm postures by FK, keep the first whose straight joint
-    // path from home makes the right arm hit the left arm (dense reference).
+    // The right gripper reaching over to where the left gripper is: arm
+    // joints 1-4 moved from home by CROSS (found by an FK grid search for a
+    // right-arm posture whose tool is within 0.12 m of the left tool).
+    const CROSS: [f64; 4] = [0.4, -1.2, -0.8, 0.8];
     let arm_r = cob.arm("right").unwrap();
-    let left_tcp = cob
-        .arm("left")
-        .unwrap()
-        .fk(&cob.arm("left").unwrap().extract(&ch))
-        .translation
-        .vector;
-    let steps = [-1.2, -0.8, -0.4, 0.0, 0.4, 0.8, 1.2];
-    let mut found = None;
-    'search: for a in steps {
-        for b in steps {
-            for c in steps {
-                for d in steps {
-                    let mut q = ch.clone();
-                    for (k, v) in [a, b, c, d].iter().enumerate() {
-                        q[arm_r.joint_indices[2 + k]] += v;
-                    }
-                    let tcp = arm_r.fk(&arm_r.extract(&q)).translation.vector;
-                    if (tcp - left_tcp).norm() > 0.12 {
-                        continue;
-                    }
-                    let f = fixture(
-                        "probe",
-                        "",
-                        "care_o_bot4",
-                        cob_air.clone(),
-                        FixturePath::Robot(vec![ch.clone(), q.clone()]),
-                    );
-                    let r = dense_of(&f, &DenseSettings::default());
-                    if let Some(h) = &r.first_hit {
-                        println!("  probe {:?}: {} vs {}", [a, b, c, d], h.1, h.2);
-                        if h.1.contains("right") && h.2.contains("left")
-                            || h.1.contains("left") && h.2.contains("right")
-                        {
-                            found = Some(q);
-                            break 'search;
-                        }
-                    }
-                }
-            }
-        }
+    let arm_l = cob.arm("left").unwrap();
+    let mut q_cross = ch.clone();
+    for (k, v) in CROSS.iter().enumerate() {
+        q_cross[arm_r.joint_indices[2 + k]] += v;
     }
-    let q_cross = found.expect("no crossing posture found");
+    let tcp_gap = (arm_r.fk(&arm_r.extract(&q_cross)).translation.vector
+        - arm_l.fk(&arm_l.extract(&ch)).translation.vector)
+        .norm();
+    assert!(
+        tcp_gap < 0.12,
+        "CROSS no longer reaches the left tool: {tcp_gap}"
+    );
     let part = |s: f64| -> Vec<f64> {
         ch.iter()
             .zip(&q_cross)
@@ -619,13 +585,41 @@ fn main() {
     };
     fx.push(fixture(
         "cob-arms-cross",
-        "Care-O-bot: the right arm reaches over to the left gripper (posture found by FK) and the arms collide.",
+        "Care-O-bot: the right arm reaches over to the left gripper; on the way its link 3 enters the torso, then the arms meet.",
         "care_o_bot4",
         cob_air.clone(),
         FixturePath::Robot(vec![ch.clone(), part(0.5), q_cross.clone()]),
     ));
-    let mut frac = 0.9;
-    while frac > 0.05 {
+    // The reach stopped where a hand-written skip list ("torso vs arm link 3
+    // cannot meet") called it free: arm_right_3_link ~28 mm inside torso_3_link.
+    fx.push(fixture(
+        "cob-self-collision-arm-into-torso",
+        "Care-O-bot: the same reach stopped half way: arm_right_3_link enters torso_3_link (a pair the old hand-written list skipped).",
+        "care_o_bot4",
+        cob_air.clone(),
+        FixturePath::Robot(vec![ch.clone(), part(0.25), part(0.5)]),
+    ));
+    // The mirror image for the left arm (left = right with every value negated).
+    let mirror = |q: &[f64]| -> Vec<f64> {
+        let mut m = q.to_vec();
+        for (r, l) in arm_r.joint_indices[2..]
+            .iter()
+            .zip(&arm_l.joint_indices[2..])
+        {
+            m[*l] = -q[*r];
+            m[*r] = ch[*r];
+        }
+        m
+    };
+    fx.push(fixture(
+        "cob-self-collision-left-arm-into-torso",
+        "Care-O-bot: the mirror image of cob-self-collision-arm-into-torso for the left arm: arm_left_3_link enters torso_3_link.",
+        "care_o_bot4",
+        cob_air.clone(),
+        FixturePath::Robot(vec![ch.clone(), mirror(&part(0.25)), mirror(&part(0.5))]),
+    ));
+    let mut frac = 0.5;
+    while frac > 0.01 {
         let f = fixture(
             "probe",
             "",
@@ -636,12 +630,12 @@ fn main() {
         if !dense_of(&f, &DenseSettings::default()).collides() {
             break;
         }
-        frac -= 0.05;
+        frac -= 0.01;
     }
     println!("cob: right arm free up to {frac:.2} of the crossing motion");
     fx.push(fixture(
         "cob-arms-reach-stops-short",
-        "Care-O-bot: the same reach stopped before the arms meet.",
+        "Care-O-bot: the same reach stopped before any link meets another (dense reference, every pair the allowed-collision matrix does not skip).",
         "care_o_bot4",
         cob_air.clone(),
         FixturePath::Robot(vec![ch.clone(), part(0.5 * frac), part(frac)]),

@@ -24,7 +24,9 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
-use afford_kinematics::{AllowedCollisions, AllowedPair, AllowedReason, MAX_ACM_SAMPLES, RobotModel};
+use afford_kinematics::{
+    AllowedCollisions, AllowedPair, AllowedReason, MAX_ACM_SAMPLES, RobotModel,
+};
 use parry3d::bounding_volume::Aabb;
 use parry3d::math::Pose as PPose;
 use rand::{Rng, SeedableRng};
@@ -95,11 +97,11 @@ pub struct PairEntry {
     pub links: [String; 2],
     /// Why the check skips the pair; `None`: checked.
     pub reason: Option<AllowedReason>,
-    /// Smallest distance over the samples, m (0 when in contact; not sampled
-    /// for adjacent pairs: NaN).
-    pub min_distance: f64,
-    /// Fraction of the samples in contact (NaN for adjacent pairs).
-    pub contact_fraction: f64,
+    /// Smallest distance over the samples, m (0 when in contact; `None` for
+    /// adjacent pairs, which are not sampled).
+    pub min_distance: Option<f64>,
+    /// Fraction of the samples in contact (`None` for adjacent pairs).
+    pub contact_fraction: Option<f64>,
 }
 
 /// The derived matrix: every pair of links with geometry.
@@ -232,8 +234,8 @@ impl AllowedCollisionMatrix {
                     return PairEntry {
                         links,
                         reason: Some(AllowedReason::Adjacent),
-                        min_distance: f64::NAN,
-                        contact_fraction: f64::NAN,
+                        min_distance: None,
+                        contact_fraction: None,
                     };
                 };
                 let contact_fraction = stats.contacts[k] as f64 / settings.samples as f64;
@@ -250,8 +252,8 @@ impl AllowedCollisionMatrix {
                 PairEntry {
                     links,
                     reason,
-                    min_distance,
-                    contact_fraction,
+                    min_distance: Some(min_distance),
+                    contact_fraction: Some(contact_fraction),
                 }
             })
             .collect();
@@ -350,11 +352,13 @@ impl AllowedCollisionMatrix {
 impl PairEntry {
     /// What the samples showed, for a comment.
     fn observed(&self) -> String {
-        format!(
-            "min distance {:.3} m, in contact in {:.1} % of samples",
-            self.min_distance,
-            100.0 * self.contact_fraction
-        )
+        match (self.min_distance, self.contact_fraction) {
+            (Some(d), Some(f)) => format!(
+                "min distance {d:.3} m, in contact in {:.1} % of samples",
+                100.0 * f
+            ),
+            _ => "adjacent: not sampled".into(),
+        }
     }
 }
 
@@ -395,7 +399,11 @@ fn random_within_limits(model: &RobotModel, rng: &mut impl Rng) -> Vec<f64> {
             } else {
                 (-PI, PI)
             };
-            if hi > lo { rng.random_range(lo..=hi) } else { lo }
+            if hi > lo {
+                rng.random_range(lo..=hi)
+            } else {
+                lo
+            }
         })
         .collect()
 }

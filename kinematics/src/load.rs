@@ -374,14 +374,17 @@ fn allowed_pairs(
         };
         let (a, b) = (index(&entry.pair[0])?, index(&entry.pair[1])?);
         if a == b {
-            return Err(err(field, format!("pairs link '{}' with itself", entry.pair[0])));
+            return Err(err(
+                field,
+                format!("pairs link '{}' with itself", entry.pair[0]),
+            ));
         }
         let key = (a.min(b), a.max(b));
         if entry.reason == AllowedReason::Adjacent && !adjacent.contains(&key) {
             return Err(err(
                 field,
                 format!(
-                    "'{}' and '{}' are not adjacent (not joined by one joint); re-derive the section with `afford robots acm`",
+                    "'{}' and '{}' are not adjacent (joined by a joint, both with collision geometry); re-derive the section with `afford robots acm`",
                     entry.pair[0], entry.pair[1]
                 ),
             ));

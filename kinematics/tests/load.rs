@@ -111,6 +111,8 @@ fn message(e: KinematicsError) -> String {
 
 const DESC: &str = "afford_robot: 1\nname: t\nurdf: t.urdf\narms:\n  - {name: arm, root: base, tool: tip, joints: [j1]}\nacceleration_limits: {j1: 1.0}\n";
 
+const ACM: &str = "allowed_collisions:\n  samples: 100\n  seed: 1\n  clearance: 0.03\n  pairs:\n";
+
 fn urdf_with(joint: &str) -> String {
     format!("<robot name=\"t\"><link name=\"base\"/><link name=\"tip\"/>{joint}</robot>")
 }
@@ -169,7 +171,7 @@ fn malformed_description_errors_name_file_and_element() {
     let urdf = urdf_with(
         "<joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"tip\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" velocity=\"1\"/></joint>",
     );
-    let cases: [(&str, &[&str]); 9] = [
+    let cases: [(&str, &[&str]); 12] = [
         (
             &DESC.replace("joints: [j1]", "joints: [j9]"),
             &["user/t.yaml", "arms[0].joints[0]", "'j9'"],
@@ -192,8 +194,28 @@ fn malformed_description_errors_name_file_and_element() {
             &["user/t.yaml", "afford_robot"],
         ),
         (
-            &format!("{DESC}self_collision_skip: [[base, nowhere]]\n"),
-            &["self_collision_skip[0]", "'nowhere'"],
+            &format!("{DESC}self_collision_skip: [[base, tip]]\n"),
+            &[
+                "self_collision_skip",
+                "allowed_collisions",
+                "afford robots acm",
+            ],
+        ),
+        (
+            &format!("{DESC}{ACM}    - {{pair: [base, nowhere], reason: never}}\n"),
+            &["allowed_collisions.pairs[0]", "'nowhere'"],
+        ),
+        (
+            &format!("{DESC}{ACM}    - {{pair: [base, tip], reason: adjacent}}\n"),
+            &["allowed_collisions.pairs[0]", "not adjacent"],
+        ),
+        (
+            &format!(
+                "{DESC}{}",
+                ACM.replace("samples: 100", "samples: 0")
+                    .replace("pairs:\n", "pairs: []\n")
+            ),
+            &["allowed_collisions.samples"],
         ),
         (
             &format!("{DESC}gripper: {{fingers: [tip#3]}}\n"),
@@ -226,4 +248,52 @@ fn missing_files_and_unknown_names_are_errors_not_panics() {
     assert!(e.contains("missing/robot.yaml"), "{e}");
     let e = message(RobotModel::load("lonely.urdf", &fixtures()).unwrap_err());
     assert!(e.contains("lonely.yaml"), "{e}");
+}
+
+#[test]
+fn description_without_allowed_collisions_skips_only_adjacent_links() {
+    // six_dof.yaml has no `allowed_collisions`: the safe default skips the
+    // links joined by a joint (wrist_1 has no geometry, so forearm and
+    // wrist_2 meet through it) and checks every other pair.
+    let m = RobotModel::load("six_dof.yaml", &fixtures()).unwrap();
+    assert!(m.allowed_collisions().is_none());
+    let names: Vec<(&str, &str)> = m
+        .self_collision_skip()
+        .iter()
+        .map(|&(a, b)| (m.links()[a].name.as_str(), m.links()[b].name.as_str()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("base", "shoulder"),
+            ("shoulder", "upper_arm"),
+            ("upper_arm", "forearm"),
+            ("forearm", "wrist_2"),
+        ]
+    );
+    assert_eq!(m.self_collision_skip(), m.adjacent_link_pairs());
+}
+
+#[test]
+fn self_collision_pairs_from_geometry_not_hand_list() {
+    // The Care-O-bot's old hand list skipped arm link 3 against the torso as
+    // "cannot meet"; the stored matrix (derived from geometry) checks it.
+    let m = RobotModel::builtin("care_o_bot4").unwrap();
+    let acm = m
+        .allowed_collisions()
+        .expect("built-in robots store their matrix");
+    assert!(acm.samples >= 10_000 && acm.clearance >= 0.01);
+    for side in ["right", "left"] {
+        for link in ["arm_{side}_3_link", "arm_{side}_4_link"] {
+            let link = link.replace("{side}", side);
+            let (a, b) = (
+                m.link_index("torso_3_link").unwrap(),
+                m.link_index(&link).unwrap(),
+            );
+            assert!(
+                !m.skips_self_collision(a, b),
+                "torso_3_link vs {link} skipped"
+            );
+        }
+    }
 }
