@@ -121,7 +121,10 @@ fn acm_is_deterministic_and_seeded() {
     );
     let other = AllowedCollisionMatrix::derive(&m, &AcmSettings { seed: 2, ..s }).unwrap();
     let distances = |x: &AllowedCollisionMatrix| -> Vec<u64> {
-        x.pairs.iter().filter_map(|p| p.min_distance.map(f64::to_bits)).collect()
+        x.pairs
+            .iter()
+            .filter_map(|p| p.min_distance.map(f64::to_bits))
+            .collect()
     };
     assert_ne!(
         distances(&a),

@@ -32,8 +32,8 @@ pub use bench::{
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
 pub use description::{
-    AllowedCollisions, AllowedPair, AllowedReason, DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT, Gripper,
-    MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
+    AllowedCollisions, AllowedPair, AllowedReason, DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT,
+    Gripper, MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
 };
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
