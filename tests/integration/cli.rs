@@ -143,3 +143,46 @@ fn bad_arguments_exit_with_code_2() {
         );
     }
 }
+
+#[test]
+fn robots_acm_prints_the_allowed_collisions_block_for_builtin_and_user_robots() {
+    let builtin = afford(&["robots", "acm", "kuka_iiwa14", "--samples", "2000"]);
+    builtin.assert_code(0);
+    assert_contains_all(
+        "afford robots acm kuka_iiwa14",
+        &builtin.stdout,
+        &[
+            "allowed_collisions:",
+            "samples: 2000",
+            "seed: 1",
+            "clearance: 0.03",
+            "{pair: [base_link, link_1], reason: adjacent}",
+            "# checked:",
+        ],
+    );
+    let user = afford(&[
+        "robots",
+        "acm",
+        "kinematics/tests/fixtures/six_dof.yaml",
+        "--samples",
+        "1000",
+        "--seed",
+        "7",
+    ]);
+    user.assert_code(0);
+    assert_contains_all(
+        "afford robots acm six_dof.yaml",
+        &user.stdout,
+        &[
+            "'six_dof'",
+            "seed: 7",
+            "{pair: [base, shoulder], reason: adjacent}",
+        ],
+    );
+    let unknown = afford(&["robots", "acm", "no_such_robot"]);
+    unknown.assert_code(2);
+    assert_contains_all("unknown robot", &unknown.stderr, &["no_such_robot"]);
+    let zero = afford(&["robots", "acm", "kuka_iiwa14", "--samples", "0"]);
+    zero.assert_code(2);
+    assert_contains_all("--samples 0", &zero.stderr, &["samples", "1 ..="]);
+}
