@@ -444,3 +444,73 @@ pub fn structural(robot: &RobotModel, plan: &Plan) -> Structural {
     }
     counts
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outcome(findings: Vec<(&str, Option<usize>)>) -> SceneOutcome {
+        SceneOutcome {
+            index: 0,
+            robot: scenes::ROBOTS[0],
+            outcome: Outcome::Planned,
+            trajectories: 2,
+            refusals: vec![("no_route", "no free route".into())],
+            findings: findings
+                .into_iter()
+                .map(|(class, subgoal)| Finding {
+                    class: class.into(),
+                    subgoal,
+                    message: String::new(),
+                })
+                .collect(),
+            structural: Structural::default(),
+        }
+    }
+
+    #[test]
+    fn violations_count_trajectories_not_messages() {
+        let report = SafetyReport::of(
+            1,
+            &[outcome(vec![
+                ("margin", Some(0)),
+                ("margin", Some(0)),
+                ("margin", Some(1)),
+                ("format", None),
+            ])],
+        );
+        let t = &report.total;
+        assert_eq!(t.violations["margin"], 2);
+        assert_eq!(t.violations["format"], 1);
+        assert_eq!(t.violations["penetration"], 0);
+        assert_eq!(t.refusals["no_route"], 1);
+        assert_eq!(report.robots[scenes::ROBOTS[0]], *t);
+        assert_eq!(report.robots[scenes::ROBOTS[1]].scenarios, 0);
+    }
+
+    #[test]
+    fn structural_counts_find_limit_excess_and_jumps() {
+        let scenario = crate::scenario::default_scenario().expect("embedded scenario");
+        let mut plan = crate::plan::plan(&scenario, &PlanOptions::default()).expect("plans");
+        let robot = RobotModel::load(&scenario.robot.model, std::path::Path::new("."))
+            .expect("built-in robot");
+        let before = structural(&robot, &plan);
+        let arm = robot.arm("arm").expect("iiwa arm");
+        let motion = plan.subgoals[0].trajectory.as_mut().expect("trajectory");
+        let sample = &mut motion.points[5].positions;
+        assert!(arm.within_limits(sample, 0.0));
+        sample[0] = arm.upper[0] + 0.1;
+        let next = plan.subgoals[1].trajectory.as_mut().expect("trajectory");
+        next.points[0].positions[0] += 0.01;
+        let after = structural(&robot, &plan);
+        assert_eq!(
+            after.samples_outside_position_limits,
+            before.samples_outside_position_limits + 1
+        );
+        assert!(after.max_position_excess >= 0.1 - 1e-12);
+        assert_eq!(
+            after.trajectories_not_starting_at_previous_end,
+            before.trajectories_not_starting_at_previous_end + 1
+        );
+    }
+}
