@@ -71,16 +71,14 @@ pub fn scene(seed: u64, index: usize) -> Scenario {
         ChaCha8Rng::seed_from_u64(seed ^ (index as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let robot = index % ROBOTS.len();
     let name = format!("safety-{seed}-{index}");
+    let mut draw = || Layout::new(&SETUPS[robot]).build(&mut rng, ROBOTS[robot], &name);
     // A layout where none of the named pieces found room is drawn again
     // (rare: crowded tables of wide pieces); the bound keeps it finite.
-    let mut scene = Layout::new(&SETUPS[robot]).build(&mut rng, ROBOTS[robot], &name);
-    for _ in 0..20 {
-        if scene.1 {
-            break;
-        }
-        scene = Layout::new(&SETUPS[robot]).build(&mut rng, ROBOTS[robot], &name);
+    let first = draw();
+    if first.1 {
+        return first.0;
     }
-    scene.0
+    (0..20).map(|_| draw()).find(|s| s.1).unwrap_or(first).0
 }
 
 /// A (colour, shape) description the instruction names, and its pieces.
