@@ -151,6 +151,24 @@ pub enum BenchCommand {
     Timing(BenchSeedArgs),
     /// The whole pipeline on a scenario (default: the embedded one), stage by stage.
     Pipeline(BenchPipelineArgs),
+    /// The safety campaign: random scenes for both robots, planned and every trajectory re-checked.
+    Safety(BenchSafetyArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchSafetyArgs {
+    /// Number of generated scenes (even ones kuka_iiwa14, odd ones care_o_bot4).
+    #[arg(long, default_value_t = 100)]
+    pub scenarios: usize,
+    /// Seed of the scene series; same seed, same scenes and the same report.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write every generated scene to this folder as `safety-SEED-K.yaml`, to replay one with `afford plan`.
+    #[arg(long, value_name = "DIR")]
+    pub write_scenes: Option<PathBuf>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -241,5 +259,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
         Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
+        Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
     }
 }

@@ -6,5 +6,6 @@ mod cql_properties;
 mod examples;
 mod instructions;
 mod pipeline;
+mod safety;
 mod scenario_errors;
 mod util;

@@ -1,0 +1,516 @@
+//! `afford bench safety`: the safety campaign. Plans every scene of a seeded
+//! series ([`super::scenes`], both built-in robots) with the default
+//! options, counts fully planned, partly planned and refused scenes and the
+//! refusals by kind ([`super::refusal`]), and re-checks every emitted plan
+//! with a checker passed in as a function (the planner crate does not depend
+//! on the checker crate). Counts are per robot and in total.
+//!
+//! Next to the checker's classes the runner keeps two structural counts that
+//! need no checker: samples outside the model's joint position limits, and
+//! trajectories that do not start where the robot was (the plan's start
+//! state, then where the previous sub-goal ended).
+
+use std::collections::BTreeMap;
+
+use afford_kinematics::RobotModel;
+use serde::Serialize;
+
+use super::refusal::{REFUSAL_KINDS, refusal_kind};
+use super::scenes;
+use crate::error::PlanError;
+use crate::plan::{Plan, PlanOptions};
+use crate::scenario::Scenario;
+
+/// Every violation class an independent checker reports (CONTRACTS.md,
+/// afford-check `ViolationClass`), listed in every report with 0 where none.
+pub const VIOLATION_CLASSES: [&str; 16] = [
+    "penetration",
+    "margin",
+    "self_collision",
+    "position",
+    "velocity",
+    "acceleration",
+    "jerk",
+    "continuity",
+    "start",
+    "rest",
+    "gripper_events",
+    "tool_speed",
+    "target_touched",
+    "placement",
+    "gripper_opening",
+    "format",
+];
+
+/// Joint positions further than this beyond a limit count as outside, rad or m.
+pub const POSITION_TOLERANCE: f64 = 1e-9;
+/// A first sample further than this from where the robot was counts as a
+/// jump, rad or m.
+pub const CONTINUITY_TOLERANCE: f64 = 1e-6;
+
+/// Campaign size and seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SafetyConfig {
+    pub scenarios: usize,
+    pub seed: u64,
+}
+
+impl Default for SafetyConfig {
+    fn default() -> Self {
+        Self {
+            scenarios: 100,
+            seed: 1,
+        }
+    }
+}
+
+/// One violation a checker found in a plan.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Finding {
+    /// One of [`VIOLATION_CLASSES`] (snake_case).
+    pub class: String,
+    /// The sub-goal whose trajectory it is in; `None` for the plan as a whole.
+    pub subgoal: Option<usize>,
+    pub message: String,
+}
+
+/// How a scene ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Every sub-goal planned.
+    Planned,
+    /// Some sub-goals planned, some refused.
+    PartlyPlanned,
+    /// No sub-goal planned.
+    Refused,
+}
+
+/// Counts the runner takes from the trajectories themselves, no checker needed.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Structural {
+    /// Samples with a joint beyond its position limit.
+    pub samples_outside_position_limits: usize,
+    /// Trajectories with at least one such sample.
+    pub trajectories_outside_position_limits: usize,
+    /// The largest excess over a position limit, rad or m.
+    pub max_position_excess: f64,
+    /// Trajectories whose first sample is not where the robot was.
+    pub trajectories_not_starting_at_previous_end: usize,
+}
+
+impl Structural {
+    fn add(&mut self, other: &Self) {
+        self.samples_outside_position_limits += other.samples_outside_position_limits;
+        self.trajectories_outside_position_limits += other.trajectories_outside_position_limits;
+        self.max_position_excess = self.max_position_excess.max(other.max_position_excess);
+        self.trajectories_not_starting_at_previous_end +=
+            other.trajectories_not_starting_at_previous_end;
+    }
+}
+
+/// The result of one scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneOutcome {
+    pub index: usize,
+    pub robot: &'static str,
+    pub outcome: Outcome,
+    /// Sub-goal trajectories emitted (and checked).
+    pub trajectories: usize,
+    /// One entry per refused sub-goal: (kind, reason).
+    pub refusals: Vec<(&'static str, String)>,
+    pub findings: Vec<Finding>,
+    pub structural: Structural,
+}
+
+/// Counts over a set of scenes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tally {
+    pub scenarios: usize,
+    pub planned: usize,
+    pub partly_planned: usize,
+    pub refused: usize,
+    /// Sub-goal trajectories emitted and re-checked.
+    pub trajectories: usize,
+    /// Per class, the trajectories (or plans, for findings on no sub-goal)
+    /// with at least one violation of that class.
+    pub violations: BTreeMap<String, usize>,
+    /// Refused sub-goals per kind.
+    pub refusals: BTreeMap<String, usize>,
+    pub structural: Structural,
+}
+
+impl Default for Tally {
+    fn default() -> Self {
+        let zeros = |keys: &[&str]| keys.iter().map(|k| (k.to_string(), 0)).collect();
+        Self {
+            scenarios: 0,
+            planned: 0,
+            partly_planned: 0,
+            refused: 0,
+            trajectories: 0,
+            violations: zeros(&VIOLATION_CLASSES),
+            refusals: zeros(&REFUSAL_KINDS),
+            structural: Structural::default(),
+        }
+    }
+}
+
+impl Tally {
+    fn add(&mut self, s: &SceneOutcome) {
+        self.scenarios += 1;
+        match s.outcome {
+            Outcome::Planned => self.planned += 1,
+            Outcome::PartlyPlanned => self.partly_planned += 1,
+            Outcome::Refused => self.refused += 1,
+        }
+        self.trajectories += s.trajectories;
+        let mut seen: Vec<(&str, Option<usize>)> = s
+            .findings
+            .iter()
+            .map(|f| (f.class.as_str(), f.subgoal))
+            .collect();
+        seen.sort();
+        seen.dedup();
+        for (class, _) in seen {
+            *self.violations.entry(class.to_string()).or_default() += 1;
+        }
+        for (kind, _) in &s.refusals {
+            *self.refusals.entry(kind.to_string()).or_default() += 1;
+        }
+        self.structural.add(&s.structural);
+    }
+
+    /// Trajectories with a violation, over every class.
+    pub fn violating(&self) -> usize {
+        self.violations.values().sum()
+    }
+}
+
+/// The campaign's counts: in total (flattened at the top level of the JSON)
+/// and per robot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SafetyReport {
+    pub seed: u64,
+    #[serde(flatten)]
+    pub total: Tally,
+    pub robots: BTreeMap<String, Tally>,
+    /// The first message of each violation class and refusal kind, with its
+    /// scene ("scene 17 (care_o_bot4), sub-goal 1: …"), for people; not in
+    /// the JSON.
+    #[serde(skip)]
+    pub examples: BTreeMap<String, String>,
+}
+
+impl SafetyReport {
+    /// The report of `outcomes`, taken in scene order.
+    pub fn of(seed: u64, outcomes: &[SceneOutcome]) -> Self {
+        let mut report = Self {
+            seed,
+            total: Tally::default(),
+            robots: scenes::ROBOTS
+                .iter()
+                .map(|r| (r.to_string(), Tally::default()))
+                .collect(),
+            examples: BTreeMap::new(),
+        };
+        for s in outcomes {
+            report.total.add(s);
+            report.robots.entry(s.robot.to_string()).or_default().add(s);
+            let at = |sub: Option<usize>| match sub {
+                Some(k) => format!("scene {} ({}), sub-goal {k}", s.index, s.robot),
+                None => format!("scene {} ({})", s.index, s.robot),
+            };
+            for f in &s.findings {
+                let text = format!("{}: {}", at(f.subgoal), f.message);
+                report.examples.entry(f.class.clone()).or_insert(text);
+            }
+            for (kind, reason) in &s.refusals {
+                let text = format!("{}: {reason}", at(None));
+                report.examples.entry(kind.to_string()).or_insert(text);
+            }
+        }
+        report
+    }
+
+    /// The report as a table for people: one column per robot and the total.
+    pub fn table(&self) -> String {
+        let columns: Vec<(&str, &Tally)> = self
+            .robots
+            .iter()
+            .map(|(r, t)| (r.as_str(), t))
+            .chain(std::iter::once(("total", &self.total)))
+            .collect();
+        let mut out = format!("safety campaign, seed {}\n{:<44}", self.seed, "");
+        for (name, _) in &columns {
+            out.push_str(&format!(" {name:>12}"));
+        }
+        out.push('\n');
+        let mut line = |label: String, value: &dyn Fn(&Tally) -> String| {
+            out.push_str(&format!("{label:<44}"));
+            for (_, t) in &columns {
+                out.push_str(&format!(" {:>12}", value(t)));
+            }
+            out.push('\n');
+        };
+        line("scenes".into(), &|t| t.scenarios.to_string());
+        line("  fully planned".into(), &|t| t.planned.to_string());
+        line("  partly planned".into(), &|t| t.partly_planned.to_string());
+        line("  refused".into(), &|t| t.refused.to_string());
+        line("trajectories checked".into(), &|t| {
+            t.trajectories.to_string()
+        });
+        line("trajectories with a violation, by class".into(), &|_| {
+            String::new()
+        });
+        for class in self.total.violations.keys() {
+            line(format!("  {class}"), &|t| count(&t.violations, class));
+        }
+        line("refused sub-goals, by kind".into(), &|_| String::new());
+        for kind in self.total.refusals.keys() {
+            line(format!("  {kind}"), &|t| count(&t.refusals, kind));
+        }
+        line("structural (no checker)".into(), &|_| String::new());
+        line("  samples outside position limits".into(), &|t| {
+            t.structural.samples_outside_position_limits.to_string()
+        });
+        line("  trajectories outside position limits".into(), &|t| {
+            t.structural
+                .trajectories_outside_position_limits
+                .to_string()
+        });
+        line("  largest excess over a position limit".into(), &|t| {
+            format!("{:.4}", t.structural.max_position_excess)
+        });
+        line("  trajectories not starting where robot was".into(), &|t| {
+            t.structural
+                .trajectories_not_starting_at_previous_end
+                .to_string()
+        });
+        if !self.examples.is_empty() {
+            out.push_str("\nfirst of each:\n");
+            for (key, text) in &self.examples {
+                out.push_str(&format!("  {key}: {text}\n"));
+            }
+        }
+        out
+    }
+}
+
+fn count(map: &BTreeMap<String, usize>, key: &str) -> String {
+    map.get(key).copied().unwrap_or(0).to_string()
+}
+
+/// The built-in robot models, loaded once for a campaign.
+pub struct Robots(Vec<(&'static str, RobotModel)>);
+
+impl Robots {
+    /// Loads every robot of [`scenes::ROBOTS`].
+    pub fn load() -> Result<Self, PlanError> {
+        scenes::ROBOTS
+            .iter()
+            .map(|&name| {
+                RobotModel::load(name, std::path::Path::new("."))
+                    .map(|m| (name, m))
+                    .map_err(|e| PlanError::Robot(e.to_string()))
+            })
+            .collect::<Result<_, _>>()
+            .map(Self)
+    }
+
+    fn get(&self, name: &str) -> Option<&RobotModel> {
+        self.0.iter().find(|(n, _)| *n == name).map(|(_, m)| m)
+    }
+}
+
+/// Plans scene `index` of the series `seed` and re-checks what it emits
+/// with `check` (scenario, robot model, plan → findings).
+pub fn run_scene(
+    robots: &Robots,
+    seed: u64,
+    index: usize,
+    check: &(impl Fn(&Scenario, &RobotModel, &Plan) -> Vec<Finding> + ?Sized),
+) -> SceneOutcome {
+    let robot = scenes::robot_of(index);
+    let scenario = scenes::scene(seed, index);
+    let mut outcome = SceneOutcome {
+        index,
+        robot,
+        outcome: Outcome::Refused,
+        trajectories: 0,
+        refusals: Vec::new(),
+        findings: Vec::new(),
+        structural: Structural::default(),
+    };
+    let plan = match crate::plan::plan(&scenario, &PlanOptions::default()) {
+        Ok(plan) => plan,
+        Err(e) => {
+            let reasons = match e {
+                PlanError::Unsolvable { reasons } => reasons,
+                other => vec![other.to_string()],
+            };
+            outcome.refusals = reasons.into_iter().map(|r| (refusal_kind(&r), r)).collect();
+            return outcome;
+        }
+    };
+    outcome.outcome = match plan.unsolved.is_empty() {
+        true => Outcome::Planned,
+        false => Outcome::PartlyPlanned,
+    };
+    outcome.refusals = plan
+        .unsolved
+        .iter()
+        .map(|u| {
+            let text = format!("{} → {}: {}", u.object, u.goal, u.reason);
+            (refusal_kind(&u.reason), text)
+        })
+        .collect();
+    outcome.trajectories = plan
+        .subgoals
+        .iter()
+        .filter(|s| s.trajectory.is_some())
+        .count();
+    if let Some(model) = robots.get(robot) {
+        outcome.findings = check(&scenario, model, &plan);
+        outcome.structural = structural(model, &plan);
+    }
+    outcome
+}
+
+/// Runs the campaign scene by scene; `progress` is called with the number
+/// of scenes done after each.
+pub fn run_campaign(
+    config: &SafetyConfig,
+    mut progress: impl FnMut(usize),
+    check: impl Fn(&Scenario, &RobotModel, &Plan) -> Vec<Finding>,
+) -> Result<SafetyReport, PlanError> {
+    let robots = Robots::load()?;
+    let outcomes: Vec<SceneOutcome> = (0..config.scenarios)
+        .map(|k| {
+            let outcome = run_scene(&robots, config.seed, k, &check);
+            progress(k + 1);
+            outcome
+        })
+        .collect();
+    Ok(SafetyReport::of(config.seed, &outcomes))
+}
+
+/// The structural counts of one plan: position limits from the model, and
+/// each trajectory's first sample against where the robot was (the plan's
+/// start state, then the end of the previous sub-goal, for every arm).
+pub fn structural(robot: &RobotModel, plan: &Plan) -> Structural {
+    let mut counts = Structural::default();
+    let mut now: Option<Vec<f64>> = plan
+        .start_state
+        .as_ref()
+        .map(|s| s.positions.clone())
+        .filter(|q| q.len() == robot.dof());
+    for sub in &plan.subgoals {
+        let (Some(motion), Some(arm)) = (&sub.trajectory, &sub.arm) else {
+            continue;
+        };
+        let Ok(arm) = robot.arm(arm) else {
+            continue;
+        };
+        let mut outside = 0;
+        for p in &motion.points {
+            let excess = p
+                .positions
+                .iter()
+                .zip(arm.lower.iter().zip(&arm.upper))
+                .map(|(&q, (&lo, &hi))| (lo - q).max(q - hi))
+                .fold(f64::NEG_INFINITY, f64::max);
+            if excess > POSITION_TOLERANCE {
+                outside += 1;
+                counts.max_position_excess = counts.max_position_excess.max(excess);
+            }
+        }
+        counts.samples_outside_position_limits += outside;
+        counts.trajectories_outside_position_limits += usize::from(outside > 0);
+        let (Some(first), Some(last)) = (motion.points.first(), motion.points.last()) else {
+            continue;
+        };
+        if let Some(q) = &mut now {
+            let jump = arm
+                .extract(q)
+                .iter()
+                .zip(&first.positions)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            if jump > CONTINUITY_TOLERANCE {
+                counts.trajectories_not_starting_at_previous_end += 1;
+            }
+            arm.insert(q, &last.positions);
+        }
+    }
+    counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outcome(findings: Vec<(&str, Option<usize>)>) -> SceneOutcome {
+        SceneOutcome {
+            index: 0,
+            robot: scenes::ROBOTS[0],
+            outcome: Outcome::Planned,
+            trajectories: 2,
+            refusals: vec![("no_route", "no free route".into())],
+            findings: findings
+                .into_iter()
+                .map(|(class, subgoal)| Finding {
+                    class: class.into(),
+                    subgoal,
+                    message: String::new(),
+                })
+                .collect(),
+            structural: Structural::default(),
+        }
+    }
+
+    #[test]
+    fn violations_count_trajectories_not_messages() {
+        let report = SafetyReport::of(
+            1,
+            &[outcome(vec![
+                ("margin", Some(0)),
+                ("margin", Some(0)),
+                ("margin", Some(1)),
+                ("format", None),
+            ])],
+        );
+        let t = &report.total;
+        assert_eq!(t.violations["margin"], 2);
+        assert_eq!(t.violations["format"], 1);
+        assert_eq!(t.violations["penetration"], 0);
+        assert_eq!(t.refusals["no_route"], 1);
+        assert_eq!(report.robots[scenes::ROBOTS[0]], *t);
+        assert_eq!(report.robots[scenes::ROBOTS[1]].scenarios, 0);
+    }
+
+    #[test]
+    fn structural_counts_find_limit_excess_and_jumps() {
+        let scenario = crate::scenario::default_scenario().expect("embedded scenario");
+        let mut plan = crate::plan::plan(&scenario, &PlanOptions::default()).expect("plans");
+        let robot = RobotModel::load(&scenario.robot.model, std::path::Path::new("."))
+            .expect("built-in robot");
+        let before = structural(&robot, &plan);
+        let arm = robot.arm("arm").expect("iiwa arm");
+        let motion = plan.subgoals[0].trajectory.as_mut().expect("trajectory");
+        let sample = &mut motion.points[5].positions;
+        assert!(arm.within_limits(sample, 0.0));
+        sample[0] = arm.upper[0] + 0.1;
+        let next = plan.subgoals[1].trajectory.as_mut().expect("trajectory");
+        next.points[0].positions[0] += 0.01;
+        let after = structural(&robot, &plan);
+        assert_eq!(
+            after.samples_outside_position_limits,
+            before.samples_outside_position_limits + 1
+        );
+        assert!(after.max_position_excess >= 0.1 - 1e-12);
+        assert_eq!(
+            after.trajectories_not_starting_at_previous_end,
+            before.trajectories_not_starting_at_previous_end + 1
+        );
+    }
+}
