@@ -396,7 +396,7 @@ impl Planner {
             .unwrap_or_else(|| start.clone());
         let lead = match start::is_parked(arm, &world.joints) {
             true => leave_park(arm, &start, &first),
-            false => Vec::new(),
+            false => approach(&start, &first),
         };
         // joint_path[lead.len() + 1 + k] is tool waypoint k.
         let offset = lead.len();
@@ -580,13 +580,23 @@ fn return_to_park(arm: &afford_kinematics::Arm, rest: &[f64], path: &[Vec<f64>])
 /// The way from a parked arm to its path's first configuration, through its
 /// home posture (straight in joint space from park, the arm could sweep the
 /// robot's body); empty for an arm without a park posture. An arm that is
-/// not parked moves from where it is straight to its first waypoint.
+/// not parked takes the straight [`approach`] instead.
 fn leave_park(arm: &afford_kinematics::Arm, start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
     if arm.park.is_empty() {
         return Vec::new();
     }
     let mut out = joint_steps(start, &arm.home);
     out.extend(joint_steps(&arm.home, first));
+    out.pop();
+    out
+}
+
+/// The way of an arm that is not parked from where it is to its path's
+/// first configuration: straight in joint space, in steps of at most
+/// 0.05 rad (so the timing stage's interpolant sees evenly spaced points,
+/// not one long segment beside 1 cm ones), the first configuration excluded.
+fn approach(start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
+    let mut out = joint_steps(start, first);
     out.pop();
     out
 }
