@@ -580,10 +580,20 @@ impl JointRows {
     /// Lowest and highest position of `row`'s joint over the plan (at least
     /// 1 rad apart).
     fn position_span(&self, plan: &Plan, row: &JointRow) -> (f64, f64) {
-        let values = plan.subgoals.iter().zip(&row.columns).filter_map(|(sub, &c)| {
-            let i = c?;
-            Some(sub.trajectory.as_ref()?.points.iter().map(move |p| p.positions[i]))
-        });
+        let values = plan
+            .subgoals
+            .iter()
+            .zip(&row.columns)
+            .filter_map(|(sub, &c)| {
+                let i = c?;
+                Some(
+                    sub.trajectory
+                        .as_ref()?
+                        .points
+                        .iter()
+                        .map(move |p| p.positions[i]),
+                )
+            });
         let (lo, hi) = values
             .flatten()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {

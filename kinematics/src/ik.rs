@@ -417,10 +417,12 @@ pub fn random_configuration(arm: &Arm, rng: &mut impl Rng) -> Vec<Real> {
         .iter()
         .zip(&arm.upper)
         .zip(&arm.home)
-        .map(|((&lo, &hi), &home)| match lo.is_finite() && hi.is_finite() {
-            true => rng.random_range(lo..=hi),
-            false => home + rng.random_range(-std::f64::consts::PI..=std::f64::consts::PI),
-        })
+        .map(
+            |((&lo, &hi), &home)| match lo.is_finite() && hi.is_finite() {
+                true => rng.random_range(lo..=hi),
+                false => home + rng.random_range(-std::f64::consts::PI..=std::f64::consts::PI),
+            },
+        )
         .collect()
 }
 

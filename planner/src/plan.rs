@@ -554,7 +554,13 @@ impl World {
         else {
             return;
         };
-        if let (Ok(arm), Some(last)) = (robot.arm(arm), path.last()) {
+        // Where the robot really stops: the last trajectory sample (the next
+        // sub-goal starts there exactly), or the path's end before timing.
+        let last = match &done.trajectory {
+            Some(t) => t.points.last().map(|p| &p.positions),
+            None => path.last(),
+        };
+        if let (Ok(arm), Some(last)) = (robot.arm(arm), last) {
             arm.insert(&mut self.joints, last);
         }
     }

@@ -208,11 +208,7 @@ fn seen_gripper(scenario: &Scenario, robot: &RobotModel, joints: &[f64]) -> [f64
 
 /// The arm whose tool is nearest `point` in the table plane, and that tool's
 /// table-plane position (x, y), base frame.
-fn nearest_tool<'a>(
-    robot: &'a RobotModel,
-    joints: &[f64],
-    point: [f64; 2],
-) -> (&'a str, [f64; 2]) {
+fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (&'a str, [f64; 2]) {
     let tools = robot.arms().iter().map(|arm| {
         let p = arm.fk(&arm.extract(joints)).translation.vector;
         (arm.name.as_str(), [p.x, p.y])

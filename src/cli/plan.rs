@@ -29,10 +29,9 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         PlanError::Scenario(_) | PlanError::Robot(_) => {
             Failure::new(ExitKind::BadInput, e.to_string())
         }
-        PlanError::RobotState { .. } => Failure::new(
-            ExitKind::BadInput,
-            format!("{}: {e}", scenario_file(args)),
-        ),
+        PlanError::RobotState { .. } => {
+            Failure::new(ExitKind::BadInput, format!("{}: {e}", scenario_file(args)))
+        }
         _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
     })?;
     let text = match args.format {
