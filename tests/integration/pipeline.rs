@@ -531,3 +531,18 @@ fn continuous_joint_at_7_rad_is_accepted() {
         &["robot.joints.j2", "outside the joint limits"],
     );
 }
+
+#[test]
+fn start_with_neither_joints_nor_pixel_rests_at_home() {
+    let dir = scratch_dir("start-neither");
+    let path = scenario_with_robot(&dir, "robot: {model: kuka_iiwa14}");
+    let plan = afford_with_path(&["plan"], &path, &[])
+        .assert_code(0)
+        .json();
+    let robot = afford::kinematics::RobotModel::builtin("kuka_iiwa14").expect("robot");
+    let state = state_map(&plan["start_state"]);
+    for (joint, home) in robot.joints().iter().zip(robot.home()) {
+        assert_eq!(state[&joint.name], *home, "{}", joint.name);
+    }
+    assert_chained_from_start_state("neither", &plan);
+}
