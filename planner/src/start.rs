@@ -281,3 +281,56 @@ fn joint_names(robot: &RobotModel) -> String {
         .collect::<Vec<_>>()
         .join(", ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::default_scenario;
+
+    fn with_joints(pairs: &[(&str, f64)]) -> Scenario {
+        let mut s = default_scenario().expect("default scenario");
+        s.robot.joints = Some(pairs.iter().map(|&(n, v)| (n.to_string(), v)).collect());
+        s
+    }
+
+    #[test]
+    fn start_state_issues_name_every_bad_joint_at_once() {
+        let robot = RobotModel::builtin("kuka_iiwa14").expect("robot");
+        let mut pairs: Vec<(&str, f64)> = robot
+            .joints()
+            .iter()
+            .zip(robot.home())
+            .map(|(j, &h)| (j.name.as_str(), h))
+            .collect();
+        assert!(check_joints(&with_joints(&pairs), &robot).is_empty());
+        pairs.retain(|(n, _)| *n != "joint_a3");
+        pairs.push(("joint_a9", 0.0));
+        pairs[0].1 = 7.0;
+        let fields: Vec<String> = check_joints(&with_joints(&pairs), &robot)
+            .into_iter()
+            .map(|i| i.field)
+            .collect();
+        assert_eq!(
+            fields,
+            [
+                "robot.joints.joint_a3",
+                "robot.joints.joint_a1",
+                "robot.joints.joint_a9"
+            ]
+        );
+    }
+
+    #[test]
+    fn start_state_parked_only_at_the_park_posture() {
+        let robot = RobotModel::builtin("care_o_bot4").expect("robot");
+        let parked = parked_home(&robot);
+        assert!(robot.arms().iter().all(|a| is_parked(a, &parked)));
+        let left = robot.arm("left").expect("left");
+        let mut out = parked.clone();
+        left.insert(&mut out, &left.home);
+        assert!(!is_parked(left, &out));
+        assert!(is_parked(robot.arm("right").expect("right"), &out));
+        let iiwa = RobotModel::builtin("kuka_iiwa14").expect("robot");
+        assert!(!is_parked(&iiwa.arms()[0], iiwa.home()), "no park posture");
+    }
+}
