@@ -528,9 +528,12 @@ impl JointRows {
 
     /// One chart: a joint's position or velocity over the whole plan.
     fn panel(&self, area: &Area, plan: &Plan, row: &JointRow, velocity: bool, last: bool) -> Res {
-        let (lo, hi) = match velocity {
-            true => (-row.velocity, row.velocity),
-            false => (row.lower, row.upper),
+        let bounded = velocity || (row.lower.is_finite() && row.upper.is_finite());
+        let (lo, hi) = match (velocity, bounded) {
+            (true, _) => (-row.velocity, row.velocity),
+            (false, true) => (row.lower, row.upper),
+            // A continuous joint has no limits: the axis spans its positions.
+            (false, false) => self.position_span(plan, row),
         };
         let pad = 0.12 * (hi - lo);
         let mut chart = ChartBuilder::on(area)
@@ -550,7 +553,7 @@ impl JointRows {
         }
         mesh.axis_desc_style(text_style(12.0, BLACK)).draw()?;
         self.events(&mut chart, plan, (lo - pad, hi + pad))?;
-        for limit in [lo, hi] {
+        for limit in [lo, hi].into_iter().filter(|_| bounded) {
             let line = [(0.0, limit), (self.total, limit)];
             chart.draw_series(DashedLineSeries::new(line, 6, 4, LIMIT.stroke_width(1)))?;
         }
@@ -572,6 +575,33 @@ impl JointRows {
         let name = text_style(11.0, BLACK).pos(Pos::new(HPos::Left, VPos::Top));
         area.draw_text(&row.name, &name, (52, 2))?;
         Ok(())
+    }
+
+    /// Lowest and highest position of `row`'s joint over the plan (at least
+    /// 1 rad apart).
+    fn position_span(&self, plan: &Plan, row: &JointRow) -> (f64, f64) {
+        let values = plan
+            .subgoals
+            .iter()
+            .zip(&row.columns)
+            .filter_map(|(sub, &c)| {
+                let i = c?;
+                Some(
+                    sub.trajectory
+                        .as_ref()?
+                        .points
+                        .iter()
+                        .map(move |p| p.positions[i]),
+                )
+            });
+        let (lo, hi) = values
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        let mid = if lo <= hi { 0.5 * (lo + hi) } else { 0.0 };
+        let half = (0.5 * (hi - lo)).max(0.5);
+        (mid - half, mid + half)
     }
 
     /// Dotted grey verticals where the gripper closes and opens.

@@ -4,6 +4,8 @@
 //!
 //! cost = |q_first - q_now| + path length (joint space, Euclidean)
 //!        + limit_weight * mean over waypoints of mean_j ((q_j - mid_j) / half_range_j)^2
+//!
+//! A continuous joint has no limits to keep away from: its term is 0.
 
 use rand::Rng;
 use serde::Serialize;
@@ -55,6 +57,7 @@ pub fn path_cost(arm: &Arm, current: &[Real], path: &JointPath) -> Real {
         .map(|q| {
             q.iter()
                 .zip(arm.lower.iter().zip(&arm.upper))
+                .filter(|&(_, (lo, hi))| lo.is_finite() && hi.is_finite())
                 .map(|(&v, (&lo, &hi))| {
                     let half = 0.5 * (hi - lo);
                     ((v - 0.5 * (hi + lo)) / half).powi(2)

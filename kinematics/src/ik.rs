@@ -11,6 +11,8 @@
 //! q      = clamp(q + dq)  -- joints that hit a limit are frozen and the step re-solved
 //! ```
 //!
+//! A continuous joint's limits are -inf/+inf, so it is never clamped or frozen.
+//!
 //! Top-down grasps with free yaw drop the rotation about the tool axis from the
 //! task (5-D), so that freedom joins the null space. Unseeded solves start at
 //! home, then at random in-limit configurations drawn from the caller's RNG;
@@ -407,18 +409,20 @@ impl<'a> Solver<'a> {
     }
 }
 
-/// A random in-limit configuration of the arm (continuous joints within +-pi).
+/// A random in-limit configuration of the arm, uniform over each joint's
+/// range. A continuous joint (no limits) is drawn within +-pi of its home
+/// value: one full turn, every orientation of the joint once.
 pub fn random_configuration(arm: &Arm, rng: &mut impl Rng) -> Vec<Real> {
     arm.lower
         .iter()
         .zip(&arm.upper)
-        .map(|(&lo, &hi)| {
-            let (lo, hi) = (
-                lo.max(-std::f64::consts::PI * 2.0),
-                hi.min(std::f64::consts::PI * 2.0),
-            );
-            rng.random_range(lo..=hi)
-        })
+        .zip(&arm.home)
+        .map(
+            |((&lo, &hi), &home)| match lo.is_finite() && hi.is_finite() {
+                true => rng.random_range(lo..=hi),
+                false => home + rng.random_range(-std::f64::consts::PI..=std::f64::consts::PI),
+            },
+        )
         .collect()
 }
 

@@ -24,7 +24,10 @@ pub(crate) fn serial_chain(arm: &Arm) -> k::SerialChain<Real> {
             .name(&arm.joint_names[i])
             .joint_type(joint_type)
             .origin(j.origin)
-            .limits(Some(k::joint::Range::new(arm.lower[i], arm.upper[i])))
+            .limits(
+                (arm.lower[i].is_finite() && arm.upper[i].is_finite())
+                    .then(|| k::joint::Range::new(arm.lower[i], arm.upper[i])),
+            )
             .into_node();
         if let Some(parent) = nodes.last() {
             node.set_parent(parent);

@@ -22,11 +22,15 @@ pub enum JointKind {
 }
 
 /// A movable joint with its limits (rad, rad/s, rad/s^2; m for prismatic).
+/// A continuous joint has no position limits: `lower` is -inf and `upper`
+/// +inf, so code doing arithmetic on the limits checks [`Joint::is_bounded`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Joint {
     pub name: String,
     pub kind: JointKind,
+    /// Lowest position (rad or m); -inf for a continuous joint (JSON: null).
     pub lower: Real,
+    /// Highest position (rad or m); +inf for a continuous joint (JSON: null).
     pub upper: Real,
     pub velocity: Real,
     pub acceleration: Real,
@@ -34,9 +38,15 @@ pub struct Joint {
 }
 
 impl Joint {
-    /// Middle of the position range.
+    /// True when the joint has finite position limits (every kind but
+    /// continuous).
+    pub fn is_bounded(&self) -> bool {
+        self.lower.is_finite() && self.upper.is_finite()
+    }
+
+    /// Middle of the position range; 0 for a continuous joint.
     pub fn mid(&self) -> Real {
-        0.5 * (self.lower + self.upper)
+        range_mid(self.lower, self.upper)
     }
 
     /// True when `q` lies inside the limits (tolerance `eps`).
@@ -146,13 +156,22 @@ impl Arm {
                 .all(|(&q, (&lo, &hi))| q >= lo - eps && q <= hi + eps)
     }
 
-    /// Middle of each joint range.
+    /// Middle of each joint range (0 for a continuous joint).
     pub fn mid_range(&self) -> Vec<Real> {
         self.lower
             .iter()
             .zip(&self.upper)
-            .map(|(l, u)| 0.5 * (l + u))
+            .map(|(&l, &u)| range_mid(l, u))
             .collect()
+    }
+}
+
+/// Middle of `[lower, upper]`; 0 when either end is infinite (a continuous
+/// joint's range is the whole line, centred on 0).
+pub(crate) fn range_mid(lower: Real, upper: Real) -> Real {
+    match lower.is_finite() && upper.is_finite() {
+        true => 0.5 * (lower + upper),
+        false => 0.0,
     }
 }
 

@@ -30,6 +30,7 @@ pub(crate) struct TreeJoint {
     pub kind: JointKind,
     /// Unit axis in the joint frame (unused for fixed joints).
     pub axis: Vec3,
+    /// Position limits; -inf/+inf for a continuous joint.
     pub lower: Real,
     pub upper: Real,
     pub velocity: Real,
@@ -238,7 +239,9 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
     let lim = &j.limit;
     let (lower, upper) = match kind {
         JointKind::Fixed => (0.0, 0.0),
-        JointKind::Continuous => (-std::f64::consts::PI * 2.0, std::f64::consts::PI * 2.0),
+        // A continuous joint has no position limits (URDF ignores its
+        // <limit lower/upper>): its range is the whole real line.
+        JointKind::Continuous => (Real::NEG_INFINITY, Real::INFINITY),
         _ => {
             if !(lim.lower.is_finite() && lim.upper.is_finite() && lim.lower < lim.upper) {
                 return Err(element_error(

@@ -16,7 +16,10 @@ fn solvable_grid(side: usize) -> StateGrid {
                 GridRequest {
                     object: 0,
                     goal: 0,
-                    gripper: scene.robot.start,
+                    gripper: scene
+                        .robot
+                        .start
+                        .expect("generated scenes give robot.start"),
                 },
             )
         })

@@ -88,6 +88,13 @@ pub enum PlanError {
     /// The scenario's robot could not be loaded.
     #[error("robot: {0}")]
     Robot(String),
+    /// The scenario's robot state (`robot.joints`, `robot.start`) does not
+    /// fit the robot: bad input, each issue names its field.
+    #[error("the robot's state does not fit {robot}:{}", issues.iter().map(|i| format!("\n  - {i}")).collect::<String>())]
+    RobotState {
+        robot: String,
+        issues: Vec<FieldIssue>,
+    },
     /// Every sub-goal failed; each reason is listed by sub-goal.
     #[error("no sub-goal could be planned:{}", reasons.iter().map(|r| format!("\n  - {r}")).collect::<String>())]
     Unsolvable { reasons: Vec<String> },

@@ -13,6 +13,7 @@
 //! | affordances, initial Q | [`affordance`] | eq. (7)–(9) |
 //! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`oracle`] | — (BFS, for measurement) |
+//! | the robot's state at t = 0 | [`start`] | — |
 //! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
 //! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
@@ -42,6 +43,7 @@ pub mod oracle;
 pub mod plan;
 pub mod scenario;
 pub mod smooth;
+pub mod start;
 pub mod task;
 pub mod timing;
 pub mod trajectory;

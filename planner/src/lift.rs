@@ -137,7 +137,7 @@ pub fn lift(
     let grid = &task.grid;
     let held = &scenario.objects[object];
     let table = scenario.camera.table_z;
-    let carry_height = tallest(scenario, object) + held.height + settings.carry_clearance;
+    let carry_height = carry_height(scenario, object, settings);
     let grasp = (held.height / 2.0).max(settings.min_grasp_height);
     let yaw = grasp_yaw(scenario, held.bbox.w, held.bbox.l);
     let grasp_at = actions
@@ -206,6 +206,13 @@ pub fn lift(
         waypoints: densify(&out, settings.max_step),
         carry_height,
     }
+}
+
+/// Carry height (metres above the table top) of a sub-goal that moves
+/// `object`: the tallest other thing on the table + the object's height +
+/// `carry_clearance`.
+pub fn carry_height(scenario: &Scenario, object: usize, settings: &LiftSettings) -> f64 {
+    tallest(scenario, object) + scenario.objects[object].height + settings.carry_clearance
 }
 
 /// Cuts every segment longer than `max_step` into equal steps; inserted

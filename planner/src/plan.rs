@@ -22,6 +22,7 @@ use crate::lift::{LiftSettings, LiftedMotion, Phase, lift};
 use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
+use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
 use crate::timing::TimingSettings;
 use crate::trajectory::{TimedMotion, TimingRequest, time_motion};
@@ -197,29 +198,44 @@ impl Planner {
         let options = &self.options;
         let mut timings = StageTimings::default();
         let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
-        let robot = match options.until >= Stage::Joints {
+        let spec = &scenario.robot;
+        let needs_robot =
+            options.until >= Stage::Joints || spec.start.is_none() || spec.joints.is_some();
+        let robot = match needs_robot {
             true => Some(
-                RobotModel::load(&scenario.robot.model, &options.base_dir)
+                RobotModel::load(&spec.model, &options.base_dir)
                     .map_err(|e| PlanError::Robot(e.to_string()))?,
             ),
             false => None,
         };
-        let joints = robot.as_ref().map_or_else(Vec::new, parked_home);
-        let geometry = match &robot {
-            Some(r) => Some(RobotGeometry::new(r).map_err(|e| PlanError::Robot(e.to_string()))?),
+        let start = match &robot {
+            Some(r) => Some(self.start_state(scenario, r, &goals[0])?),
             None => None,
+        };
+        let geometry = match (&robot, options.until >= Stage::Joints) {
+            (Some(r), true) => {
+                Some(RobotGeometry::new(r).map_err(|e| PlanError::Robot(e.to_string()))?)
+            }
+            _ => None,
+        };
+        let start_state = match (&robot, &start, options.until >= Stage::Joints) {
+            (Some(r), Some(s), true) => Some(JointState {
+                joint_names: r.joints().iter().map(|j| j.name.clone()).collect(),
+                positions: s.joints.clone(),
+            }),
+            _ => None,
+        };
+        let (joints, gripper_px) = match start {
+            Some(s) => (s.joints, s.gripper_px),
+            None => (Vec::new(), spec.start.unwrap_or_default()),
         };
         let mut world = World {
             scene: scenario.clone(),
-            gripper_px: scenario.robot.start,
+            gripper_px,
             robot,
             geometry,
             joints,
         };
-        let start_state = world.robot.as_ref().map(|r| JointState {
-            joint_names: r.joints().iter().map(|j| j.name.clone()).collect(),
-            positions: world.joints.clone(),
-        });
         let mut plan = Plan {
             scenario: scenario.name.clone().unwrap_or_default(),
             seed: options.seed,
@@ -259,6 +275,26 @@ impl Planner {
             return Err(PlanError::Unsolvable { reasons });
         }
         Ok(plan)
+    }
+
+    /// The robot's state at t = 0 ([`crate::start`]); the first sub-goal
+    /// gives the grid cell and the carry height the rules use.
+    fn start_state(
+        &self,
+        scenario: &Scenario,
+        robot: &RobotModel,
+        first: &SubGoal,
+    ) -> Result<StartState, PlanError> {
+        let object = scenario
+            .object_index(&first.object)
+            .expect("sub-goals name scenario objects");
+        let first = FirstSubgoal::moving(scenario, object, &self.options.lift);
+        start::resolve(scenario, robot, &first, &self.options.ik.ik).map_err(|issues| {
+            PlanError::RobotState {
+                robot: robot.name().to_string(),
+                issues,
+            }
+        })
     }
 
     /// One sub-goal through the stages: grid → CQL → lift → IK. `Err` is the
@@ -358,7 +394,10 @@ impl Planner {
             .first()
             .cloned()
             .unwrap_or_else(|| start.clone());
-        let lead = leave_park(arm, &start, &first);
+        let lead = match start::is_parked(arm, &world.joints) {
+            true => leave_park(arm, &start, &first),
+            false => approach(&start, &first),
+        };
         // joint_path[lead.len() + 1 + k] is tool waypoint k.
         let offset = lead.len();
         let mut joint_path: Vec<Vec<f64>> = std::iter::once(start.clone())
@@ -515,22 +554,16 @@ impl World {
         else {
             return;
         };
-        if let (Ok(arm), Some(last)) = (robot.arm(arm), path.last()) {
+        // Where the robot really stops: the last trajectory sample (the next
+        // sub-goal starts there exactly), or the path's end before timing.
+        let last = match &done.trajectory {
+            Some(t) => t.points.last().map(|p| &p.positions),
+            None => path.last(),
+        };
+        if let (Ok(arm), Some(last)) = (robot.arm(arm), last) {
             arm.insert(&mut self.joints, last);
         }
     }
-}
-
-/// The robot's configuration before the first sub-goal: home, with every
-/// arm that has a park posture parked. On a robot with several arms the one
-/// that works leaves park and comes back to it ([`return_to_park`]), so the
-/// others are always out of its way and nothing moves unplanned.
-fn parked_home(robot: &RobotModel) -> Vec<f64> {
-    let mut q = robot.home().to_vec();
-    for &(i, v) in robot.arms().iter().flat_map(|a| &a.park) {
-        q[i] = v;
-    }
-    q
 }
 
 /// The arm's way back to its park posture after its last waypoint, through
@@ -551,13 +584,25 @@ fn return_to_park(arm: &afford_kinematics::Arm, rest: &[f64], path: &[Vec<f64>])
 }
 
 /// The way from a parked arm to its path's first configuration, through its
-/// home posture; empty for an arm without a park posture.
+/// home posture (straight in joint space from park, the arm could sweep the
+/// robot's body); empty for an arm without a park posture. An arm that is
+/// not parked takes the straight [`approach`] instead.
 fn leave_park(arm: &afford_kinematics::Arm, start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
     if arm.park.is_empty() {
         return Vec::new();
     }
     let mut out = joint_steps(start, &arm.home);
     out.extend(joint_steps(&arm.home, first));
+    out.pop();
+    out
+}
+
+/// The way of an arm that is not parked from where it is to its path's
+/// first configuration: straight in joint space, in steps of at most
+/// 0.05 rad (so the timing stage's interpolant sees evenly spaced points,
+/// not one long segment beside 1 cm ones), the first configuration excluded.
+fn approach(start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
+    let mut out = joint_steps(start, first);
     out.pop();
     out
 }

@@ -18,6 +18,7 @@ use afford_kinematics::{Arm, RobotModel};
 use serde::{Deserialize, Serialize};
 
 use crate::clearance::{ArmMotion, check_motion};
+use crate::plan::JointState;
 use crate::scenario::Scenario;
 use crate::trajectory::{TimedMotion, arm_limits};
 
@@ -27,6 +28,9 @@ pub const LIMIT_TOLERANCE: f64 = 1e-6;
 /// The parts of a plan file (`afford plan` output) that are checked.
 #[derive(Debug, Clone, Deserialize)]
 pub struct TrajectoryFile {
+    /// The robot's state at t = 0; home when the file has none.
+    #[serde(default)]
+    pub start_state: Option<JointState>,
     pub subgoals: Vec<PlannedMotion>,
 }
 
@@ -72,6 +76,13 @@ pub fn check_trajectories(
     let geometry = RobotGeometry::new(robot).map_err(|e| e.to_string())?;
     let mut scene = scenario.clone();
     let mut rest = robot.home().to_vec();
+    if let Some(start) = &file.start_state {
+        let names = robot.joints().iter().map(|j| &j.name);
+        if !names.eq(&start.joint_names) || start.positions.len() != rest.len() {
+            return Err("start_state must name every robot joint in the robot's order".into());
+        }
+        rest.clone_from(&start.positions);
+    }
     let mut violations = Vec::new();
     for (k, motion) in file.subgoals.iter().enumerate() {
         let found = check_one(&scene, robot, &geometry, &rest, motion);

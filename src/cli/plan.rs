@@ -29,6 +29,9 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         PlanError::Scenario(_) | PlanError::Robot(_) => {
             Failure::new(ExitKind::BadInput, e.to_string())
         }
+        PlanError::RobotState { .. } => {
+            Failure::new(ExitKind::BadInput, format!("{}: {e}", scenario_file(args)))
+        }
         _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
     })?;
     let text = match args.format {
@@ -75,6 +78,14 @@ pub fn load(path: Option<&Path>) -> Result<Scenario, Failure> {
         None => scenario::default_scenario(),
     };
     loaded.map_err(|e| Failure::new(ExitKind::BadInput, e.to_string()))
+}
+
+/// The scenario file as the user named it, for error messages.
+fn scenario_file(args: &PlanArgs) -> String {
+    args.scenario.as_ref().map_or_else(
+        || scenario::DEFAULT_SCENARIO_NAME.to_string(),
+        |p| p.display().to_string(),
+    )
 }
 
 fn source_name(args: &PlanArgs) -> String {

@@ -2,20 +2,56 @@
 
 use std::fmt::Write;
 
+use afford_kinematics::{IkSettings, RobotModel};
+use afford_planner::PlanError;
 use afford_planner::grid::{GridRequest, StateGrid};
 use afford_planner::instruction::subgoals;
+use afford_planner::lift::LiftSettings;
 use afford_planner::scenario::Scenario;
+use afford_planner::start::{self, FirstSubgoal};
 
-use super::plan::load;
-use super::{Failure, ValidateArgs};
+use super::plan::{base_dir, load};
+use super::{ExitKind, Failure, ValidateArgs};
 
 pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
     let scenario = load(args.scenario.as_deref())?;
-    print!("{}", explain(&scenario, args.seed));
+    let gripper = gripper_pixel(&scenario, args)?;
+    print!("{}", explain(&scenario, gripper, args.seed));
     Ok(())
 }
 
-fn explain(s: &Scenario, seed: u64) -> String {
+/// Where the gripper is in the image. `robot.start` alone needs no robot;
+/// otherwise the robot is loaded and `robot.joints` checked against it, as
+/// `afford plan` does (bad input: exit 2, field named).
+fn gripper_pixel(s: &Scenario, args: &ValidateArgs) -> Result<[f64; 2], Failure> {
+    let file = args.scenario.as_ref().map_or_else(
+        || afford_planner::scenario::DEFAULT_SCENARIO_NAME.to_string(),
+        |p| p.display().to_string(),
+    );
+    if let (Some(start), None) = (s.robot.start, &s.robot.joints) {
+        return Ok(start);
+    }
+    let bad = |message: String| Failure::new(ExitKind::BadInput, message);
+    let robot = RobotModel::load(&s.robot.model, &base_dir(args.scenario.as_deref()))
+        .map_err(|e| bad(format!("robot: {e}")))?;
+    let Some(object) = subgoals(s, args.seed)
+        .ok()
+        .and_then(|goals| s.object_index(&goals.first()?.object))
+    else {
+        return Ok(s.robot.start.unwrap_or_default());
+    };
+    let first = FirstSubgoal::moving(s, object, &LiftSettings::default());
+    let state = start::resolve(s, &robot, &first, &IkSettings::default()).map_err(|issues| {
+        let e = PlanError::RobotState {
+            robot: robot.name().to_string(),
+            issues,
+        };
+        bad(format!("{file}: {e}"))
+    })?;
+    Ok(state.gripper_px)
+}
+
+fn explain(s: &Scenario, gripper: [f64; 2], seed: u64) -> String {
     let mut out = String::new();
     let [mu, mv] = s.metres_per_pixel();
     let px = |m: f64| m / mu.max(mv);
@@ -35,8 +71,15 @@ fn explain(s: &Scenario, seed: u64) -> String {
     );
     let _ = writeln!(
         out,
-        "robot: {}, gripper at pixel ({}, {})",
-        s.robot.model, s.robot.start[0], s.robot.start[1]
+        "robot: {}, gripper at pixel ({:.1}, {:.1}){}",
+        s.robot.model,
+        gripper[0],
+        gripper[1],
+        match (&s.robot.joints, s.robot.start) {
+            (Some(_), None) => " (from robot.joints)",
+            (None, None) => " (home)",
+            _ => "",
+        }
     );
     let _ = writeln!(out, "objects: {}", s.objects.len());
     for o in &s.objects {
@@ -86,7 +129,7 @@ fn explain(s: &Scenario, seed: u64) -> String {
                 let request = GridRequest {
                     object: s.object_index(&g.object).unwrap_or(0),
                     goal: s.goal_index(&g.goal).unwrap_or(0),
-                    gripper: s.robot.start,
+                    gripper,
                 };
                 let grid = StateGrid::build(s, request);
                 let _ = writeln!(

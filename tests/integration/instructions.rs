@@ -49,7 +49,8 @@ fn scene(instruction: &str, pointing: Option<[f64; 2]>) -> Scenario {
         },
         robot: RobotSpec {
             model: "kuka_iiwa14".into(),
-            start: [320.0, 460.0],
+            start: Some([320.0, 460.0]),
+            joints: None,
         },
         objects: vec![
             object("red-square-1", "red", "square", 100.0, 40.0),

@@ -235,3 +235,314 @@ fn pipeline_bench_reports_every_stage() {
         );
     }
 }
+
+// ---- The robot's state at t = 0 (issue 8, kinds 7 and 10) ----
+
+/// The whole robot's state as a name -> position map.
+fn state_map(state: &Value) -> std::collections::BTreeMap<String, f64> {
+    let names = state["joint_names"].as_array().expect("joint_names");
+    let positions = state["positions"].as_array().expect("positions");
+    assert_eq!(names.len(), positions.len());
+    names
+        .iter()
+        .zip(positions)
+        .map(|(n, p)| {
+            (
+                n.as_str().expect("name").to_string(),
+                p.as_f64().expect("position"),
+            )
+        })
+        .collect()
+}
+
+fn positions(point: &Value) -> Vec<f64> {
+    point["positions"]
+        .as_array()
+        .expect("positions")
+        .iter()
+        .map(|v| v.as_f64().expect("number"))
+        .collect()
+}
+
+/// Sub-goal 0's first sample is the plan's start state and every sub-goal
+/// starts exactly (bit for bit) where the robot was after the previous one.
+fn assert_chained_from_start_state(what: &str, plan: &Value) {
+    let mut robot = state_map(&plan["start_state"]);
+    let subgoals = plan["subgoals"].as_array().expect("subgoals");
+    assert!(!subgoals.is_empty(), "{what}: no sub-goal");
+    for (k, sub) in subgoals.iter().enumerate() {
+        let names: Vec<&str> = sub["joint_names"]
+            .as_array()
+            .expect("joint_names")
+            .iter()
+            .map(|n| n.as_str().expect("name"))
+            .collect();
+        let points = sub["trajectory"]["points"].as_array().expect("points");
+        let first = positions(&points[0]);
+        for (name, q) in names.iter().zip(&first) {
+            assert_eq!(
+                *q, robot[*name],
+                "{what}: sub-goal {k} starts with {name} = {q}, the robot is at {}",
+                robot[*name]
+            );
+        }
+        let last = positions(points.last().expect("a sample"));
+        for (name, q) in names.iter().zip(last) {
+            robot.insert(name.to_string(), q);
+        }
+    }
+}
+
+/// The `robot.joints` of a scenario file, by name.
+fn scenario_joints(path: &Path) -> std::collections::BTreeMap<String, f64> {
+    let scenario = afford::planner::scenario::load(path).expect("scenario loads");
+    scenario.robot.joints.expect("robot.joints")
+}
+
+#[test]
+fn start_state_first_sample_is_the_given_joint_state() {
+    for example in ["joint-state-start.yaml", "cob4-joint-state-start.yaml"] {
+        let path = repo().join("examples").join(example);
+        let plan = afford_with_path(&["plan"], &path, &[])
+            .assert_code(0)
+            .json();
+        assert_eq!(
+            state_map(&plan["start_state"]),
+            scenario_joints(&path),
+            "{example}: start_state is not robot.joints"
+        );
+        assert_chained_from_start_state(example, &plan);
+    }
+}
+
+#[test]
+fn start_pixel_alone_hovers_without_detour_through_home() {
+    use afford::kinematics::{RobotModel, Vec3};
+    let path = repo().join("examples/sort-blue-squares.yaml");
+    let scenario = afford::planner::scenario::load(&path).expect("loads");
+    let plan = afford_with_path(&["plan"], &path, &[])
+        .assert_code(0)
+        .json();
+    assert_chained_from_start_state("sort-blue-squares", &plan);
+    let robot = RobotModel::builtin("kuka_iiwa14").expect("robot");
+    let arm = &robot.arms()[0];
+    let state = state_map(&plan["start_state"]);
+    let start: Vec<f64> = robot.joints().iter().map(|j| state[&j.name]).collect();
+    // The tool points down over robot.start at the first sub-goal's carry height.
+    let tool = arm.fk(&arm.extract(&start));
+    let [x, y] = scenario.pixel_to_base(scenario.robot.start.expect("start"));
+    let carry = plan["subgoals"][0]["waypoints"]["carry_height"]
+        .as_f64()
+        .expect("carry height");
+    let want = Vec3::new(x, y, scenario.camera.table_z + carry);
+    assert!(
+        (tool.translation.vector - want).norm() < 1e-4,
+        "tool at {:?}, want {want:?}",
+        tool.translation.vector
+    );
+    assert!((tool.rotation * Vec3::z() + Vec3::z()).norm() < 1e-3);
+    // Sub-goal 0 never passes through home: it starts at the hover.
+    let home = robot.home();
+    let points = plan["subgoals"][0]["trajectory"]["points"]
+        .as_array()
+        .expect("points");
+    let nearest_home = points
+        .iter()
+        .map(|p| {
+            positions(p)
+                .iter()
+                .zip(home)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest_home > 0.05, "passes {nearest_home} rad from home");
+}
+
+/// A copy of the iiwa joint-state example with `robot` replaced.
+fn scenario_with_robot(dir: &Path, robot: &str) -> std::path::PathBuf {
+    let text =
+        std::fs::read_to_string(repo().join("examples/joint-state-start.yaml")).expect("example");
+    let start = text.find("robot:").expect("robot section");
+    let end = start + text[start..].find("objects:").expect("objects section");
+    let path = dir.join("scene.yaml");
+    std::fs::write(
+        &path,
+        format!("{}{robot}\n{}", &text[..start], &text[end..]),
+    )
+    .expect("write scenario");
+    path
+}
+
+const IIWA_JOINTS: &str =
+    "joint_a1: 0.15, joint_a2: 1.1, joint_a3: 0.0, joint_a4: -1.45, joint_a5: 0.0, joint_a6: 0.6";
+
+#[test]
+fn start_state_and_start_pixel_disagreeing_is_bad_input() {
+    let dir = scratch_dir("start-disagrees");
+    // The joints put the tool near pixel (180, 100); (600, 400) is many cells away.
+    let far = scenario_with_robot(
+        &dir,
+        &format!(
+            "robot: {{model: kuka_iiwa14, start: [600, 400], joints: {{{IIWA_JOINTS}, joint_a7: 0.2}}}}"
+        ),
+    );
+    for command in ["plan", "validate"] {
+        let run = afford_with_path(&[command], &far, &[]);
+        run.assert_code(2).assert_no_panic();
+        assert_contains_all(
+            command,
+            &run.stderr,
+            &[
+                "scene.yaml",
+                "robot.start",
+                "robot.joints",
+                "more than one grid cell",
+            ],
+        );
+    }
+    // Within one cell they agree: the grid starts at robot.start.
+    let near = scenario_with_robot(
+        &dir,
+        &format!(
+            "robot: {{model: kuka_iiwa14, start: [185, 105], joints: {{{IIWA_JOINTS}, joint_a7: 0.2}}}}"
+        ),
+    );
+    let plan = afford_with_path(&["plan", "--until", "grid"], &near, &[])
+        .assert_code(0)
+        .json();
+    let first = &plan["subgoals"][0]["path_px"][0];
+    let cell = &plan["subgoals"][0]["grid"]["cell_px"];
+    for (k, at) in [185.0, 105.0].into_iter().enumerate() {
+        let half = cell[k].as_f64().expect("cell") / 2.0;
+        let centre = first[k].as_f64().expect("pixel");
+        assert!(
+            (centre - at).abs() <= half,
+            "grid starts at {first}, not at robot.start"
+        );
+    }
+}
+
+#[test]
+fn start_state_naming_a_wrong_joint_set_or_value_is_bad_input() {
+    let dir = scratch_dir("start-bad-joints");
+    let cases = [
+        // joint_a7 missing.
+        (
+            format!("{{{IIWA_JOINTS}}}"),
+            "robot.joints.joint_a7",
+            "missing",
+        ),
+        // A name the robot does not have.
+        (
+            format!("{{{IIWA_JOINTS}, joint_a7: 0.2, joint_a8: 0.0}}"),
+            "robot.joints.joint_a8",
+            "not a movable joint",
+        ),
+        // Outside joint_a7's limits (+-3.05 rad).
+        (
+            format!("{{{IIWA_JOINTS}, joint_a7: 7.0}}"),
+            "robot.joints.joint_a7",
+            "outside the joint limits",
+        ),
+    ];
+    for (joints, field, what) in cases {
+        let path = scenario_with_robot(
+            &dir,
+            &format!("robot: {{model: kuka_iiwa14, joints: {joints}}}"),
+        );
+        for command in ["plan", "validate"] {
+            let run = afford_with_path(&[command], &path, &[]);
+            run.assert_code(2).assert_no_panic();
+            assert_contains_all(command, &run.stderr, &["scene.yaml", field, what]);
+        }
+    }
+    // Not a number at all: caught while reading the scenario.
+    let path = scenario_with_robot(
+        &dir,
+        &format!("robot: {{model: kuka_iiwa14, joints: {{{IIWA_JOINTS}, joint_a7: .nan}}}}"),
+    );
+    let run = afford_with_path(&["validate"], &path, &[]);
+    run.assert_code(2).assert_no_panic();
+    assert_contains_all("nan", &run.stderr, &["robot.joints.joint_a7", "finite"]);
+}
+
+/// The continuous-joint fixture robot next to a scenario whose current state
+/// has j6 at `j6` rad.
+fn continuous_robot_scenario(dir: &Path, j6: &str) -> std::path::PathBuf {
+    for file in ["continuous.urdf", "continuous.yaml"] {
+        std::fs::copy(
+            repo().join("kinematics/tests/fixtures").join(file),
+            dir.join(file),
+        )
+        .expect("copy robot");
+    }
+    let scenario = dir.join("scene.yaml");
+    std::fs::write(
+        &scenario,
+        format!(
+            "afford: 1\nname: continuous\ncamera: {{width: 640, height: 480, pixel_to_base: [[0.0, -0.0004, 0.55], [-0.0004, 0.0, 0.128]], table_z: 0.0}}\n\
+             robot: {{model: continuous.yaml, joints: {{j1: 0.0, j2: 0.6, j3: 1.2, j4: 0.0, j5: 1.3, j6: {j6}}}}}\n\
+             objects: [{{name: blue-square-1, color: blue, shape: square, box: [100, 100, 60, 60], height: 0.03}}]\n\
+             goals: [{{name: box, box: [440, 300, 160, 160], height: 0.05}}]\n\
+             instruction: put the blue square in the box\n"
+        ),
+    )
+    .expect("write scenario");
+    scenario
+}
+
+#[test]
+fn continuous_joint_at_7_rad_is_accepted() {
+    let dir = scratch_dir("continuous-7-rad");
+    let scenario = continuous_robot_scenario(&dir, "7.0");
+    let (plan_file, plan) = plan_to_file(&scenario, &dir);
+    assert_eq!(state_map(&plan["start_state"])["j6"], 7.0);
+    assert_chained_from_start_state("continuous", &plan);
+    // The flange keeps its turn: no sample is wrapped into [-2 pi, 2 pi].
+    let j6: Vec<f64> = plan["subgoals"]
+        .as_array()
+        .expect("subgoals")
+        .iter()
+        .flat_map(|s| {
+            s["trajectory"]["points"]
+                .as_array()
+                .expect("points")
+                .clone()
+        })
+        .map(|p| positions(&p)[5])
+        .collect();
+    assert!(
+        j6.iter().all(|q| (q - 7.0).abs() < std::f64::consts::PI),
+        "{j6:?}"
+    );
+    // `afford check` agrees with `plan`.
+    afford_with_path(&["check"], &scenario, &[plan_file.to_str().expect("UTF-8")])
+        .assert_code(0)
+        .assert_no_panic();
+    // A revolute joint at 7 rad is still outside its limits.
+    let text = std::fs::read_to_string(&scenario).expect("scenario");
+    std::fs::write(&scenario, text.replace("j2: 0.6", "j2: 7.0")).expect("edit");
+    let run = afford_with_path(&["plan"], &scenario, &[]);
+    run.assert_code(2).assert_no_panic();
+    assert_contains_all(
+        "revolute",
+        &run.stderr,
+        &["robot.joints.j2", "outside the joint limits"],
+    );
+}
+
+#[test]
+fn start_with_neither_joints_nor_pixel_rests_at_home() {
+    let dir = scratch_dir("start-neither");
+    let path = scenario_with_robot(&dir, "robot: {model: kuka_iiwa14}");
+    let plan = afford_with_path(&["plan"], &path, &[])
+        .assert_code(0)
+        .json();
+    let robot = afford::kinematics::RobotModel::builtin("kuka_iiwa14").expect("robot");
+    let state = state_map(&plan["start_state"]);
+    for (joint, home) in robot.joints().iter().zip(robot.home()) {
+        assert_eq!(state[&joint.name], *home, "{}", joint.name);
+    }
+    assert_chained_from_start_state("neither", &plan);
+}

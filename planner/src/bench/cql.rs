@@ -115,7 +115,10 @@ pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBench
         let request = GridRequest {
             object: 0,
             goal: 0,
-            gripper: scene.robot.start,
+            gripper: scene
+                .robot
+                .start
+                .expect("generated scenes give robot.start"),
         };
         let grid = StateGrid::build(&scene, request);
         report.cells_min = report.cells_min.min(grid.len());

@@ -159,7 +159,8 @@ fn layout(rng: &mut ChaCha8Rng, [m, n]: [usize; 2], name: String) -> Scenario {
         },
         robot: RobotSpec {
             model: "kuka_iiwa14".into(),
-            start: [start[0] + cw / 2.0, start[1] + cl / 2.0],
+            start: Some([start[0] + cw / 2.0, start[1] + cl / 2.0]),
+            joints: None,
         },
         objects,
         goals: vec![Goal {

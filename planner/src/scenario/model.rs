@@ -5,6 +5,8 @@
 //! Every struct denies unknown fields, so a typo is an error rather than a
 //! silently ignored setting. Defaults are written once, in the `Default` impls.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::cql::LearnerSettings;
@@ -61,15 +63,26 @@ pub struct Camera {
     pub table_z: f64,
 }
 
-/// Which robot executes the plan, and where its gripper is now.
+/// Which robot executes the plan, and where it is now. The robot's state at
+/// t = 0 follows from `joints` and `start` (rules in [`crate::start`]):
+/// joints given — exactly that state (`start`, when also given, must agree
+/// within one grid cell); `start` alone — the tool hovering over that pixel;
+/// neither — home with every arm parked.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
     /// Built-in model name (`kuka_iiwa14`, `care_o_bot4`) or a path to a user
     /// robot description file (relative paths are relative to the scenario).
     pub model: String,
-    /// Gripper's current position, pixel (u, v).
-    pub start: [f64; 2],
+    /// Gripper's current position, pixel (u, v); derived from `joints` by
+    /// forward kinematics when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<[f64; 2]>,
+    /// The robot's current joint positions by joint name (rad for revolute
+    /// and continuous joints, m for prismatic ones), as a robot stack reads
+    /// them from its joint states; names every movable joint of the robot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joints: Option<BTreeMap<String, f64>>,
 }
 
 /// A pixel rectangle `[u, v, w, l]`.

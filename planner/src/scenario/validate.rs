@@ -27,7 +27,17 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
             "must name a robot (kuka_iiwa14, care_o_bot4 or a description file)".into(),
         );
     }
-    check_pixel(s, "robot.start", s.robot.start, &mut push);
+    if let Some(start) = s.robot.start {
+        check_pixel(s, "robot.start", start, &mut push);
+    }
+    for (name, value) in s.robot.joints.iter().flatten() {
+        if !value.is_finite() {
+            push(
+                format!("robot.joints.{name}"),
+                format!("must be a finite joint position (rad or m), got {value}"),
+            );
+        }
+    }
     if let Some(p) = s.pointing {
         check_pixel(s, "pointing", p, &mut push);
     }

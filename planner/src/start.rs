@@ -1,0 +1,336 @@
+//! The robot's state at t = 0 (issue 8, kind 7): where the first sub-goal's
+//! trajectory starts and which pixel its grid starts from. A robot stack
+//! knows its joint state (`robot.joints`); without it a documented rule
+//! stands in:
+//!
+//! | `robot.joints` | `robot.start` | state at t = 0 | gripper pixel |
+//! |---|---|---|---|
+//! | given | absent | the given joints | the tool of the arm nearest the image centre, by forward kinematics, clamped into the image |
+//! | given | given | the given joints; the tool of the arm nearest `robot.start` must lie within one grid cell (the first target's box) of it | `robot.start` |
+//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height: the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic), every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
+//! | absent | absent | home, every arm that has a park posture parked | as in the first row |
+//!
+//! "Nearest" compares table-plane distances (metres) from an arm's tool, or
+//! for the hover the distance from the arm's tool at its home posture to
+//! the first target; ties go to the earlier arm. An arm with a park posture
+//! never hovers: an IK posture over a pixel near the body is not known to be
+//! free of the body, while its park-home transit is checked.
+
+use afford_kinematics::{Arm, IkSettings, IkTarget, RobotModel, Vec3};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::error::FieldIssue;
+use crate::lift::{LiftSettings, carry_height};
+use crate::scenario::Scenario;
+
+/// Tolerance (rad or m) on the joint limits for a given joint state, as for
+/// the description's home and park postures.
+pub const LIMIT_TOLERANCE: f64 = 1e-9;
+
+/// Seed of the random restarts of the hover IK (a fixed seed: the start
+/// state never depends on the plan's seed).
+const HOVER_IK_SEED: u64 = 0;
+
+/// The robot's state at t = 0.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartState {
+    /// Whole-robot configuration, in [`RobotModel::joints`] order.
+    pub joints: Vec<f64>,
+    /// Where the gripper is in the image, pixel (u, v): the first grid's start.
+    pub gripper_px: [f64; 2],
+}
+
+/// What the rules need to know of the first sub-goal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstSubgoal {
+    /// Grid cell size `[w, l]`, pixels (the target's box).
+    pub cell_px: [f64; 2],
+    /// Carry height above the table top, metres.
+    pub carry_height: f64,
+    /// Centre pixel of the first target.
+    pub target_px: [f64; 2],
+}
+
+impl FirstSubgoal {
+    /// The first sub-goal when it moves `object` (index into the scenario's
+    /// objects): the grid cell is the object's box, the carry height the
+    /// lifting stage's.
+    pub fn moving(scenario: &Scenario, object: usize, lift: &LiftSettings) -> Self {
+        let target = &scenario.objects[object].bbox;
+        Self {
+            cell_px: [target.w, target.l],
+            carry_height: carry_height(scenario, object, lift),
+            target_px: target.centre(),
+        }
+    }
+}
+
+/// Problems with `robot.joints` against the robot model, one per joint, each
+/// with the field `robot.joints.<name>`: a movable joint not named, a name
+/// that is not a movable joint, a value that is not finite or lies outside
+/// the joint's limits (a continuous joint takes any finite value). Empty when
+/// `robot.joints` is absent or fits.
+pub fn check_joints(scenario: &Scenario, robot: &RobotModel) -> Vec<FieldIssue> {
+    let Some(given) = &scenario.robot.joints else {
+        return Vec::new();
+    };
+    let field = |name: &str| format!("robot.joints.{name}");
+    let mut issues: Vec<FieldIssue> = robot
+        .joints()
+        .iter()
+        .filter(|j| !given.contains_key(&j.name))
+        .map(|j| {
+            FieldIssue::new(
+                field(&j.name),
+                format!(
+                    "missing: robot.joints must give every movable joint of {}",
+                    robot.name()
+                ),
+            )
+        })
+        .collect();
+    for (name, &value) in given {
+        let message = match robot.joint_index(name).map(|i| &robot.joints()[i]) {
+            None => format!(
+                "is not a movable joint of {} (its joints: {})",
+                robot.name(),
+                joint_names(robot)
+            ),
+            Some(_) if !value.is_finite() => {
+                format!("must be a finite joint position (rad or m), got {value}")
+            }
+            Some(joint) if !joint.within(value, LIMIT_TOLERANCE) => format!(
+                "{value} is outside the joint limits {} .. {}",
+                joint.lower, joint.upper
+            ),
+            Some(_) => continue,
+        };
+        issues.push(FieldIssue::new(field(name), message));
+    }
+    issues
+}
+
+/// The robot's state at t = 0 by the rules in the module docs. `Err` lists
+/// the bad fields (`robot.joints.<name>`, `robot.start`).
+pub fn resolve(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    first: &FirstSubgoal,
+    ik: &IkSettings,
+) -> Result<StartState, Vec<FieldIssue>> {
+    let issues = check_joints(scenario, robot);
+    if !issues.is_empty() {
+        return Err(issues);
+    }
+    let spec = &scenario.robot;
+    match (&spec.joints, spec.start) {
+        (Some(given), start) => {
+            let joints: Vec<f64> = robot.joints().iter().map(|j| given[&j.name]).collect();
+            let gripper_px = match start {
+                Some(px) => agreeing_start(scenario, robot, &joints, px, first.cell_px)?,
+                None => seen_gripper(scenario, robot, &joints),
+            };
+            Ok(StartState { joints, gripper_px })
+        }
+        (None, Some(px)) => hover(scenario, robot, px, first, ik)
+            .map(|joints| StartState {
+                joints,
+                gripper_px: px,
+            })
+            .map_err(|reason| vec![FieldIssue::new("robot.start", reason)]),
+        (None, None) => {
+            let joints = parked_home(robot);
+            let gripper_px = seen_gripper(scenario, robot, &joints);
+            Ok(StartState { joints, gripper_px })
+        }
+    }
+}
+
+/// Home with every arm that has a park posture parked.
+pub fn parked_home(robot: &RobotModel) -> Vec<f64> {
+    let mut q = robot.home().to_vec();
+    for &(i, v) in robot.arms().iter().flat_map(|a| &a.park) {
+        q[i] = v;
+    }
+    q
+}
+
+/// True when every joint `arm` sets while it waits is at its park value.
+/// False for an arm without a park posture.
+pub fn is_parked(arm: &Arm, q_robot: &[f64]) -> bool {
+    !arm.park.is_empty()
+        && arm
+            .park
+            .iter()
+            .all(|&(i, v)| (q_robot[i] - v).abs() <= LIMIT_TOLERANCE)
+}
+
+/// `start`, when the tool of the arm nearest it lies within one grid cell of
+/// it (along u and along v); otherwise the issue naming both fields.
+fn agreeing_start(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    joints: &[f64],
+    start: [f64; 2],
+    cell: [f64; 2],
+) -> Result<[f64; 2], Vec<FieldIssue>> {
+    let (arm, tool) = nearest_tool(robot, joints, scenario.pixel_to_base(start));
+    let tool_px = scenario.base_to_pixel(tool);
+    let off = [0, 1].map(|k| (tool_px[k] - start[k]).abs());
+    if off[0] <= cell[0] && off[1] <= cell[1] {
+        return Ok(start);
+    }
+    Err(vec![FieldIssue::new(
+        "robot.start",
+        format!(
+            "({}, {}) disagrees with robot.joints: the tool of arm {arm} is at pixel ({:.1}, {:.1}), \
+             {:.1} px along u and {:.1} px along v away, more than one grid cell ({} x {} px); \
+             fix or drop one of the two fields",
+            start[0], start[1], tool_px[0], tool_px[1], off[0], off[1], cell[0], cell[1]
+        ),
+    )])
+}
+
+/// The pixel of the tool of the arm nearest the image centre, clamped into
+/// the image (a parked tool may be outside the camera's view).
+fn seen_gripper(scenario: &Scenario, robot: &RobotModel, joints: &[f64]) -> [f64; 2] {
+    let (w, h) = (
+        f64::from(scenario.camera.width),
+        f64::from(scenario.camera.height),
+    );
+    let centre = scenario.pixel_to_base([w / 2.0, h / 2.0]);
+    let (_, tool) = nearest_tool(robot, joints, centre);
+    let [u, v] = scenario.base_to_pixel(tool);
+    // The last pixel's far edge is outside the image: stay half a pixel in.
+    [u.clamp(0.0, w - 0.5), v.clamp(0.0, h - 0.5)]
+}
+
+/// The arm whose tool is nearest `point` in the table plane, and that tool's
+/// table-plane position (x, y), base frame.
+fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (&'a str, [f64; 2]) {
+    let tools = robot.arms().iter().map(|arm| {
+        let p = arm.fk(&arm.extract(joints)).translation.vector;
+        (arm.name.as_str(), [p.x, p.y])
+    });
+    let distance = |[x, y]: [f64; 2]| (x - point[0]).hypot(y - point[1]);
+    tools
+        .reduce(|best, next| match distance(next.1) < distance(best.1) {
+            true => next,
+            false => best,
+        })
+        .expect("a robot model has at least one arm")
+}
+
+/// The parked home with one arm's tool pointing down over pixel `px` at the
+/// first sub-goal's carry height. Only an arm without a park posture hovers
+/// (one with a park posture waits parked and leaves park through its home
+/// posture when it works: an IK posture near the body is not known to be
+/// free); among those, by distance from their tool at their home posture to
+/// the first target, the first whose IK from its home posture converges.
+/// Every arm has a park posture: the parked home.
+fn hover(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    px: [f64; 2],
+    first: &FirstSubgoal,
+    ik: &IkSettings,
+) -> Result<Vec<f64>, String> {
+    let [x, y] = scenario.pixel_to_base(px);
+    let z = scenario.camera.table_z + first.carry_height;
+    let target = IkTarget::TopDown {
+        position: Vec3::new(x, y, z),
+        yaw: None,
+    };
+    let [tx, ty] = scenario.pixel_to_base(first.target_px);
+    let first_target = Vec3::new(tx, ty, z);
+    let mut arms: Vec<&Arm> = robot.arms().iter().filter(|a| a.park.is_empty()).collect();
+    if arms.is_empty() {
+        return Ok(parked_home(robot));
+    }
+    arms.sort_by(|a, b| {
+        let d = |arm: &Arm| (arm.fk(&arm.home).translation.vector - first_target).norm();
+        d(a).total_cmp(&d(b))
+    });
+    let mut rng = ChaCha8Rng::seed_from_u64(HOVER_IK_SEED);
+    let mut reasons = Vec::new();
+    for arm in arms {
+        match arm.solve_ik(&target, None, ik, &mut rng) {
+            Ok(solution) => {
+                let mut q = parked_home(robot);
+                arm.insert(&mut q, &solution.q);
+                return Ok(q);
+            }
+            Err(e) => reasons.push(format!("arm {}: {e}", arm.name)),
+        }
+    }
+    Err(format!(
+        "no arm can hover over pixel ({}, {}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
+         give the robot's joint state in robot.joints",
+        px[0],
+        px[1],
+        reasons.join("; ")
+    ))
+}
+
+fn joint_names(robot: &RobotModel) -> String {
+    robot
+        .joints()
+        .iter()
+        .map(|j| j.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::default_scenario;
+
+    fn with_joints(pairs: &[(&str, f64)]) -> Scenario {
+        let mut s = default_scenario().expect("default scenario");
+        s.robot.joints = Some(pairs.iter().map(|&(n, v)| (n.to_string(), v)).collect());
+        s
+    }
+
+    #[test]
+    fn start_state_issues_name_every_bad_joint_at_once() {
+        let robot = RobotModel::builtin("kuka_iiwa14").expect("robot");
+        let mut pairs: Vec<(&str, f64)> = robot
+            .joints()
+            .iter()
+            .zip(robot.home())
+            .map(|(j, &h)| (j.name.as_str(), h))
+            .collect();
+        assert!(check_joints(&with_joints(&pairs), &robot).is_empty());
+        pairs.retain(|(n, _)| *n != "joint_a3");
+        pairs.push(("joint_a9", 0.0));
+        pairs[0].1 = 7.0;
+        let fields: Vec<String> = check_joints(&with_joints(&pairs), &robot)
+            .into_iter()
+            .map(|i| i.field)
+            .collect();
+        assert_eq!(
+            fields,
+            [
+                "robot.joints.joint_a3",
+                "robot.joints.joint_a1",
+                "robot.joints.joint_a9"
+            ]
+        );
+    }
+
+    #[test]
+    fn start_state_parked_only_at_the_park_posture() {
+        let robot = RobotModel::builtin("care_o_bot4").expect("robot");
+        let parked = parked_home(&robot);
+        assert!(robot.arms().iter().all(|a| is_parked(a, &parked)));
+        let left = robot.arm("left").expect("left");
+        let mut out = parked.clone();
+        left.insert(&mut out, &left.home);
+        assert!(!is_parked(left, &out));
+        assert!(is_parked(robot.arm("right").expect("right"), &out));
+        let iiwa = RobotModel::builtin("kuka_iiwa14").expect("robot");
+        assert!(!is_parked(&iiwa.arms()[0], iiwa.home()), "no park posture");
+    }
+}
