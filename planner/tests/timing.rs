@@ -406,3 +406,73 @@ fn print_bench_report() {
     let report = afford_planner::timing::timing_benchmark(&Default::default());
     println!("{}", serde_json::to_string(&report).unwrap());
 }
+
+/// Tool positions of the samples against the planned tool path (the
+/// polyline through the forward kinematics of the joint waypoints), and the
+/// largest step outside the joint position limits, on every example and
+/// fixture case (not run by default):
+/// `cargo test --release -p afford-planner --test timing -- --ignored --nocapture measure_examples`.
+#[test]
+#[ignore = "measurement: prints per-scenario figures"]
+fn measure_examples() {
+    use afford_kinematics::RobotModel;
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir("../examples")
+        .unwrap()
+        .chain(std::fs::read_dir("../tests/fixtures/cases").unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    for file in files {
+        let scenario = afford_planner::scenario::load(&file).unwrap();
+        let Ok(plan) = afford_planner::plan(&scenario, &Default::default()) else {
+            println!("{}: no plan", file.display());
+            continue;
+        };
+        let robot = RobotModel::builtin(&scenario.robot.model).unwrap();
+        for (k, sub) in plan.subgoals.iter().enumerate() {
+            let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
+            else {
+                continue;
+            };
+            let arm = robot.arm(arm).unwrap();
+            let fk = |q: &[f64]| -> [f64; 3] { arm.fk(q).translation.vector.into() };
+            let poly: Vec<[f64; 3]> = path.iter().map(|q| fk(q)).collect();
+            let deviation = |p: [f64; 3]| {
+                poly.windows(2)
+                    .map(|w| afford_planner::timing::deviation::point_segment_distance(p, w[0], w[1]))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let sampled = t
+                .points
+                .iter()
+                .map(|p| deviation(fk(&p.positions)))
+                .fold(0.0, f64::max);
+            let mut linear: f64 = 0.0;
+            for w in path.windows(2) {
+                for m in 1..20 {
+                    let u = m as f64 / 20.0;
+                    let q: Vec<f64> = w[0].iter().zip(&w[1]).map(|(a, b)| a + u * (b - a)).collect();
+                    linear = linear.max(deviation(fk(&q)));
+                }
+            }
+            let over = t
+                .points
+                .iter()
+                .flat_map(|p| {
+                    p.positions
+                        .iter()
+                        .enumerate()
+                        .map(|(j, q)| (arm.lower[j] - q).max(q - arm.upper[j]))
+                })
+                .fold(f64::NEG_INFINITY, f64::max);
+            println!(
+                "{} [{k}] duration {:.3} s, tool deviation {:.2} mm (joint-linear {:.2} mm), position excess {:.4} rad",
+                file.file_name().unwrap().to_string_lossy(),
+                t.duration(),
+                1e3 * sampled,
+                1e3 * linear,
+                over
+            );
+        }
+    }
+}

@@ -66,6 +66,7 @@
 //! ```
 
 pub mod bench;
+pub mod deviation;
 pub mod grid;
 pub mod sample;
 pub mod separation;
