@@ -28,6 +28,8 @@ fn assert_within(trajectory: &JointTrajectory, limits: &JointLimits, scale: f64)
 
 fn single_joint(distance: f64, v: f64, a: f64) -> f64 {
     let limits = JointLimits {
+        lower: vec![-10.0; 1],
+        upper: vec![10.0; 1],
         velocity: vec![v],
         acceleration: vec![a],
     };
@@ -179,6 +181,8 @@ fn planar_case() -> (Vec<Vec<f64>>, JointLimits, Proximity) {
     let path: Vec<Vec<f64>> = (0..=12).map(|k| vec![0.1 * k as f64, 0.0]).collect();
     let tool_positions = path.iter().map(|q| [q[0], q[1], 0.3]).collect();
     let limits = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.5, 1.5],
         acceleration: vec![4.0, 4.0],
     };
@@ -246,6 +250,8 @@ fn zero_crawl_speed_refuses_a_path_inside_the_protective_distance() {
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
     let ok_limits = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0, 1.0],
     };
@@ -271,6 +277,8 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(TimingError::NonFinite { index: 0, .. })
     ));
     let zero = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 0.0],
         acceleration: vec![1.0, 1.0],
     };
@@ -279,6 +287,8 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(TimingError::BadLimit { joint: 1, .. })
     ));
     let short = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0],
     };
@@ -323,6 +333,8 @@ fn bad_input_is_an_error_not_a_panic() {
 #[test]
 fn repeated_waypoints_merge_and_a_single_configuration_is_at_rest() {
     let limits = JointLimits {
+        lower: vec![-10.0; 1],
+        upper: vec![10.0; 1],
         velocity: vec![1.0],
         acceleration: vec![1.0],
     };
@@ -439,7 +451,9 @@ fn measure_examples() {
             let poly: Vec<[f64; 3]> = path.iter().map(|q| fk(q)).collect();
             let deviation = |p: [f64; 3]| {
                 poly.windows(2)
-                    .map(|w| afford_planner::timing::deviation::point_segment_distance(p, w[0], w[1]))
+                    .map(|w| {
+                        afford_planner::timing::deviation::point_segment_distance(p, w[0], w[1])
+                    })
                     .fold(f64::INFINITY, f64::min)
             };
             let sampled = t
@@ -451,7 +465,11 @@ fn measure_examples() {
             for w in path.windows(2) {
                 for m in 1..20 {
                     let u = m as f64 / 20.0;
-                    let q: Vec<f64> = w[0].iter().zip(&w[1]).map(|(a, b)| a + u * (b - a)).collect();
+                    let q: Vec<f64> = w[0]
+                        .iter()
+                        .zip(&w[1])
+                        .map(|(a, b)| a + u * (b - a))
+                        .collect();
                     linear = linear.max(deviation(fk(&q)));
                 }
             }

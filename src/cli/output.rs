@@ -48,7 +48,8 @@ pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
 }
 
 /// The trajectories of a plan as CSV, one row per sample: sub-goal index,
-/// object, arm, time, gripper state, then positions `q1…qn`, velocities
+/// object, arm, time, gripper state (`open`, `closing`, `closed`,
+/// `opening`: a command is under way from its start to its end), then positions `q1…qn`, velocities
 /// `v1…vn` and accelerations `a1…an` in the order of that sub-goal's
 /// `joint_names`. Time restarts at 0 with each sub-goal.
 pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
@@ -75,13 +76,8 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
     let mut out = header.join(",") + "\n";
     for (k, s) in plan.subgoals.iter().enumerate() {
         let Some(t) = &s.trajectory else { continue };
-        let (close, open) = t.gripper_samples();
-        for (i, p) in t.points.iter().enumerate() {
-            let gripper = if (close..open).contains(&i) {
-                "closed"
-            } else {
-                "open"
-            };
+        for p in &t.points {
+            let gripper = t.gripper_state(p.time_from_start).name();
             let values = p
                 .positions
                 .iter()

@@ -59,7 +59,12 @@
 //! ```
 //! use afford_planner::timing::{JointLimits, TimingSettings, time_parameterize};
 //! let path = vec![vec![0.0, 0.0], vec![0.5, -0.2], vec![1.0, 0.3]];
-//! let limits = JointLimits { velocity: vec![1.0, 1.0], acceleration: vec![5.0, 5.0] };
+//! let limits = JointLimits {
+//!     lower: vec![-3.0, -3.0],
+//!     upper: vec![3.0, 3.0],
+//!     velocity: vec![1.0, 1.0],
+//!     acceleration: vec![5.0, 5.0],
+//! };
 //! let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
 //! let trajectory = timing.trajectory.expect("solved");
 //! assert!(trajectory.points.last().unwrap().velocities.iter().all(|v| v.abs() < 1e-9));
@@ -76,9 +81,10 @@ pub mod topp;
 mod run;
 
 pub use bench::{TimingBenchReport, TimingBenchSettings, timing_benchmark};
+pub use deviation::ToolFk;
 pub use run::{
     JointLimits, Proximity, SeparationSummary, SolveStats, Timing, TimingError, TimingSettings,
-    TimingStatus, time_parameterize,
+    TimingStatus, time_parameterize, time_parameterize_tool,
 };
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};
