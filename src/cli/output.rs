@@ -95,3 +95,31 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The gripper column follows the events: open, closing for the closing
+    /// time, closed while carrying, opening, open again.
+    #[test]
+    fn csv_shows_the_gripper_state_per_sample() {
+        let scenario = afford_planner::scenario::default_scenario().unwrap();
+        let plan = afford_planner::plan(&scenario, &Default::default()).unwrap();
+        let csv = render_csv(&plan).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let column = header.iter().position(|h| *h == "gripper").unwrap();
+        let first_subgoal: Vec<&str> = lines
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|row| row[0] == "0")
+            .map(|row| row[column])
+            .collect();
+        let mut phases = first_subgoal.clone();
+        phases.dedup();
+        assert_eq!(phases, ["open", "closing", "closed", "opening", "open"]);
+        let closing = first_subgoal.iter().filter(|s| **s == "closing").count();
+        // 0.5 s at 100 Hz: the samples from the command's start up to its end.
+        assert_eq!(closing, 50);
+    }
+}
