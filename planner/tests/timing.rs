@@ -381,34 +381,92 @@ fn settings_deny_unknown_fields_and_fill_defaults() {
     assert_eq!(t.path_points, 300);
 }
 
+/// The path afford times through `waypoints`, as breakpoints and per-piece
+/// coefficients `[c0, c1, c2, c3]` of every joint, for the toppra script.
+fn blended_path_json(waypoints: &[Vec<f64>]) -> serde_json::Value {
+    use afford_planner::timing::spline::{PiecewiseCubic, chord_knots, widest_radii};
+    let refs: Vec<&[f64]> = waypoints.iter().map(|w| w.as_slice()).collect();
+    let knots = chord_knots(&refs);
+    let path = PiecewiseCubic::blended(&refs, &knots, &widest_radii(&knots));
+    let coefficients: Vec<Vec<[f64; 4]>> = (0..path.pieces())
+        .map(|p| (0..path.dim()).map(|j| path.piece(p, j)).collect())
+        .collect();
+    serde_json::json!({"breakpoints": path.knots(), "coefficients": coefficients})
+}
+
+fn reference_case(waypoints: &[Vec<f64>], limits: &JointLimits, name: &str) -> serde_json::Value {
+    let mut durations = serde_json::Map::new();
+    for n in [100, 200, 300, 400, 1000] {
+        let settings = TimingSettings {
+            path_points: n,
+            ..TimingSettings::default()
+        };
+        let timing = time_parameterize(waypoints, limits, None, &settings).unwrap();
+        durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
+    }
+    serde_json::json!({
+        "name": name,
+        "waypoints": waypoints,
+        "velocity_limits": limits.velocity,
+        "acceleration_limits": limits.acceleration,
+        "path": blended_path_json(waypoints),
+        "afford_duration_s": durations,
+    })
+}
+
 /// Writes a JSON case for `scripts/toppra_reference.py` (not run by default):
 /// `AFFORD_TIMING_CASE=/tmp/case.json cargo test --release -p afford-planner
-/// --test timing -- --ignored export_reference_case`.
+/// --test timing -- --ignored export_reference_case`. Ten seeded random
+/// 7-joint paths, then the real paths of two examples (every piece of every
+/// sub-goal of sort-blue-squares and cob4-sort-blue-squares, cut where the
+/// gripper acts, with the robot's limits; position limits play no part).
 #[test]
 #[ignore = "writes a file for the toppra comparison script"]
 fn export_reference_case() {
     let out = std::env::var("AFFORD_TIMING_CASE").unwrap_or("timing_case.json".into());
     let limits = iiwa_limits();
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let mut cases = Vec::new();
-    for _ in 0..10 {
-        let path = random_smooth_path(&mut rng, 7, 12);
-        let mut durations = serde_json::Map::new();
-        for n in [100, 200, 300, 400, 1000] {
-            let settings = TimingSettings {
-                path_points: n,
-                ..TimingSettings::default()
+    let mut cases: Vec<serde_json::Value> = (0..10)
+        .map(|k| {
+            reference_case(
+                &random_smooth_path(&mut rng, 7, 12),
+                &limits,
+                &format!("random {k}"),
+            )
+        })
+        .collect();
+    for (file, model) in [
+        ("sort-blue-squares", "kuka_iiwa14"),
+        ("cob4-sort-blue-squares", "care_o_bot4"),
+    ] {
+        let robot = RobotModel::builtin(model).unwrap();
+        let plan = plan(
+            &load(&format!("../examples/{file}.yaml")),
+            &PlanOptions::default(),
+        );
+        for (k, sub) in plan.subgoals.iter().enumerate() {
+            let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
+            else {
+                continue;
             };
-            let timing = time_parameterize(&path, &limits, None, &settings).unwrap();
-            durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
+            let limits = afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap());
+            let (taken, left) = t.gripper_samples();
+            let at = |sample: usize| {
+                path.iter()
+                    .position(|q| *q == t.points[sample].positions)
+                    .unwrap()
+            };
+            let cuts = [0, at(taken), at(left), path.len() - 1];
+            for (m, w) in cuts.windows(2).enumerate() {
+                let mut piece = path[w[0]..=w[1]].to_vec();
+                piece.dedup();
+                cases.push(reference_case(
+                    &piece,
+                    &limits,
+                    &format!("{file} [{k}] piece {m}"),
+                ));
+            }
         }
-        cases.push(serde_json::json!({
-            "waypoints": path,
-            "velocity_limits": limits.velocity,
-            "acceleration_limits": limits.acceleration,
-            "spline": "natural cubic, chord-length knots",
-            "afford_duration_s": durations,
-        }));
     }
     let doc = serde_json::json!({"cases": cases});
     std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
