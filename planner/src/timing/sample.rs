@@ -232,7 +232,7 @@ pub fn verify(
             let (piece, _) = checks.path.locate(s);
             let distance =
                 planned.distance(planned.fk_of(&p.positions), checks.path.segments_of(piece));
-            if !(distance <= planned.tolerance_m) {
+            if !within(distance, planned.tolerance_m, 0.0) {
                 return Err(LimitViolation {
                     kind: LimitKind::ToolDeviation,
                     sample: k,
