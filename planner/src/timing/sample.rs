@@ -250,3 +250,69 @@ pub fn verify(
 fn within(value: f64, limit: f64, tolerance: f64) -> bool {
     value.abs() <= limit * (1.0 + tolerance)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::spline::{chord_knots, widest_radii};
+    use super::*;
+
+    /// A trajectory of two joints timed on a blended path, its profile, and
+    /// the path; the second joint is continuous (infinite limits).
+    fn timed() -> (JointTrajectory, PiecewiseCubic, SpeedProfile) {
+        let points: Vec<&[f64]> = vec![&[0.0, 0.0], &[0.5, 7.0], &[1.0, 7.5]];
+        let knots = chord_knots(&points);
+        let path = PiecewiseCubic::blended(&points, &knots, &widest_radii(&knots));
+        let grid = PathGrid::new(&path, 50);
+        let mut b = vec![0.04; grid.s.len()];
+        b[0] = 0.0;
+        *b.last_mut().unwrap() = 0.0;
+        let profile = SpeedProfile::new(&grid, &b);
+        let trajectory = sample(&path, &profile, 100.0, (points[0], points[2]));
+        (trajectory, path, profile)
+    }
+
+    fn check(
+        trajectory: &JointTrajectory,
+        path: &PiecewiseCubic,
+        profile: &SpeedProfile,
+    ) -> Result<(), LimitViolation> {
+        let limits = SampleLimits {
+            lower: &[-1.0, f64::NEG_INFINITY],
+            upper: &[1.0, f64::INFINITY],
+            velocity: &[10.0, 10.0],
+            acceleration: &[100.0, 100.0],
+            tolerance: 1e-6,
+        };
+        let checks = PathChecks {
+            path,
+            profile,
+            tool_speed: None,
+            tool_path: None,
+        };
+        verify(trajectory, &limits, &checks)
+    }
+
+    #[test]
+    fn a_sample_past_a_position_limit_is_a_violation() {
+        let (mut trajectory, path, profile) = timed();
+        assert_eq!(check(&trajectory, &path, &profile), Ok(()));
+        trajectory.points[3].positions[0] = 1.001;
+        let violation = check(&trajectory, &path, &profile).unwrap_err();
+        assert_eq!(
+            (
+                violation.kind,
+                violation.sample,
+                violation.joint,
+                violation.limit
+            ),
+            (LimitKind::Position, 3, 0, 1.0)
+        );
+    }
+
+    #[test]
+    fn a_continuous_joint_is_not_limited() {
+        let (mut trajectory, path, profile) = timed();
+        trajectory.points[3].positions[1] = 1e6;
+        assert_eq!(check(&trajectory, &path, &profile), Ok(()));
+    }
+}
