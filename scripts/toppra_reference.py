@@ -3,8 +3,10 @@
 
 Not run in CI. Needs `pip install toppra` (which brings numpy and scipy).
 
-1. Write the cases (seeded random smooth 7-joint paths, iiwa-like limits,
-   afford's duration at 100/200/300/400/1000 path segments):
+1. Write the cases (ten seeded random smooth 7-joint paths with iiwa-like
+   limits, then every piece of the real paths of two examples with their
+   robot's limits; afford's duration at 100/200/300/400/1000 path segments,
+   and the path afford times as a piecewise polynomial):
 
        AFFORD_TIMING_CASE=/tmp/timing_case.json \
          cargo test --release -p afford-planner --test timing -- --ignored export_reference_case
@@ -14,14 +16,16 @@ Not run in CI. Needs `pip install toppra` (which brings numpy and scipy).
        python3 scripts/toppra_reference.py /tmp/timing_case.json
 
 For every case toppra (TOPP-RA, Pham & Pham 2018) times *the same* joint
-path: a natural cubic spline through the waypoints with chord-length knots
-(scipy's CubicSpline with bc_type="natural", the spline afford builds), the
-same velocity and acceleration limits, at rest at both ends. toppra is run on
-a fine grid (default 4000 points) as the time-optimal reference, and on 200
-points for a same-grid comparison. toppra enforces the constraints only at
-its grid points (it may exceed a limit between them), while afford bounds
+path: afford's blended polyline (the joint polyline with quadratic Bezier
+corner blends, see planner/src/timing/spline.rs), read from the case as
+breakpoints and coefficients, with the same velocity and acceleration
+limits, at rest at both ends. toppra runs on a fine grid (default 4000
+points) as the time-optimal reference. toppra enforces the constraints only
+at its grid points (it may exceed a limit between them), while afford bounds
 them on whole segments, so afford's durations are expected to be slightly
-longer, never shorter, than the fine-grid reference.
+longer, never shorter, than the fine-grid reference. The column "natural"
+is toppra's optimum on a natural cubic spline through the same waypoints
+(the interpolant afford used before), to show what the path change costs.
 """
 
 import argparse
@@ -32,6 +36,7 @@ import numpy as np
 import toppra
 import toppra.algorithm
 import toppra.constraint
+from scipy.interpolate import PPoly
 
 
 def chord_knots(waypoints):
@@ -39,14 +44,38 @@ def chord_knots(waypoints):
     return np.concatenate([[0.0], np.cumsum(steps)])
 
 
-def toppra_duration(waypoints, vlim, alim, gridpoints):
-    ss = chord_knots(waypoints)
-    path = toppra.SplineInterpolator(ss, waypoints, bc_type="natural")
+class PiecewisePath(toppra.interpolator.AbstractGeometricPath):
+    """afford's path: breakpoints and per-piece [c0, c1, c2, c3] per joint."""
+
+    def __init__(self, breakpoints, coefficients):
+        c = np.asarray(coefficients, dtype=float)  # (pieces, joints, 4)
+        self.poly = PPoly(np.transpose(c[:, :, ::-1], (2, 0, 1)), np.asarray(breakpoints, dtype=float))
+        self.derivatives = [self.poly, self.poly.derivative(1), self.poly.derivative(2)]
+        self.breakpoints = np.asarray(breakpoints, dtype=float)
+
+    def __call__(self, path_positions, order=0):
+        return self.derivatives[order](path_positions)
+
+    @property
+    def dof(self):
+        return self.poly.c.shape[2]
+
+    @property
+    def path_interval(self):
+        return np.array([self.breakpoints[0], self.breakpoints[-1]])
+
+    @property
+    def waypoints(self):
+        return self.breakpoints, self.poly(self.breakpoints)
+
+
+def toppra_duration(path, vlim, alim, gridpoints):
     constraints = [
         toppra.constraint.JointVelocityConstraint(np.vstack([-vlim, vlim]).T),
         toppra.constraint.JointAccelerationConstraint(np.vstack([-alim, alim]).T),
     ]
-    grid = np.linspace(0.0, ss[-1], gridpoints + 1)
+    start, end = path.path_interval
+    grid = np.linspace(start, end, gridpoints + 1)
     instance = toppra.algorithm.TOPPRA(
         constraints, path, gridpoints=grid, parametrizer="ParametrizeConstAccel"
     )
@@ -61,7 +90,7 @@ def main():
     parser.add_argument("cases", help="JSON written by export_reference_case")
     parser.add_argument("--fine", type=int, default=4000, help="toppra reference grid")
     parser.add_argument("--tolerance", type=float, default=1.0, help="allowed difference, percent")
-    parser.add_argument("--segments", default="200", choices=["100", "200", "300", "400", "1000"],
+    parser.add_argument("--segments", default="300", choices=["100", "200", "300", "400", "1000"],
                         help="afford's segment count to judge")
     args = parser.parse_args()
     toppra.setup_logging("WARNING")
@@ -70,17 +99,23 @@ def main():
 
     worst = 0.0
     columns = ["100", "200", "300", "400", "1000"]
-    print(f"{'case':>4} {'toppra fine':>12} {'toppra 200':>11} " + " ".join(f"{'afford ' + c:>12}" for c in columns) + f" {'diff ' + args.segments + ' %':>11}")
+    print(f"{'case':>30} {'toppra fine':>12} {'natural':>11} " + " ".join(f"{'afford ' + c:>12}" for c in columns) + f" {'diff ' + args.segments + ' %':>11}")
     for k, case in enumerate(cases):
         waypoints = np.array(case["waypoints"], dtype=float)
         vlim = np.array(case["velocity_limits"], dtype=float)
         alim = np.array(case["acceleration_limits"], dtype=float)
         ours = case["afford_duration_s"]
-        fine = toppra_duration(waypoints, vlim, alim, args.fine)
-        coarse = toppra_duration(waypoints, vlim, alim, 200)
+        natural_path = toppra.SplineInterpolator(chord_knots(waypoints), waypoints, bc_type="natural")
+        natural = toppra_duration(natural_path, vlim, alim, args.fine)
+        # Cases written before the blended path (no "path") timed the natural spline.
+        if "path" in case:
+            path = PiecewisePath(case["path"]["breakpoints"], case["path"]["coefficients"])
+            fine = toppra_duration(path, vlim, alim, args.fine)
+        else:
+            fine = natural
         diff = 100.0 * (ours[args.segments] - fine) / fine
         worst = max(worst, abs(diff))
-        print(f"{k:>4} {fine:>12.5f} {coarse:>11.5f} " + " ".join(f"{ours[c]:>12.5f}" for c in columns) + f" {diff:>+11.3f}")
+        print(f"{case.get('name', k):>30} {fine:>12.5f} {natural:>11.5f} " + " ".join(f"{ours[c]:>12.5f}" for c in columns) + f" {diff:>+11.3f}")
     print(f"largest |difference| at {args.segments} segments: {worst:.3f} % (tolerance {args.tolerance} %)")
     return 0 if worst <= args.tolerance else 1
 

@@ -6,8 +6,13 @@
 //! release, retreating — each starting and ending at rest, because the arm
 //! stands still while the gripper closes and opens. Each piece is timed by
 //! [`crate::timing`] (time-optimal under the joint velocity and acceleration
-//! limits, slower near hands by the speed-and-separation rule) and sampled at
-//! the controller rate; the pieces are joined end to end.
+//! limits, slower near hands by the speed-and-separation rule, never
+//! outside the position limits or farther from the planned tool path than
+//! [`TimingSettings::max_tool_deviation_m`]) and sampled at the controller
+//! rate. Between the pieces the arm rests while the gripper closes (opens)
+//! for the robot description's `gripper.closing_time` (`opening_time`):
+//! samples at the controller rate hold the arm still, with samples exactly
+//! at the command's start and end.
 
 use afford_kinematics::{Arm, RobotModel};
 use serde::{Deserialize, Serialize};
@@ -15,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::scenario::Scenario;
 use crate::timing::{
     Hand, JointLimits, JointTrajectory, Proximity, SeparationSettings, TimingSettings,
-    time_parameterize,
+    TrajectoryPoint, time_parameterize_tool,
 };
 
 /// Open or close the gripper.
@@ -45,21 +50,66 @@ pub struct TimedMotion {
     pub gripper: Vec<GripperEvent>,
 }
 
+/// What the gripper is doing at a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GripperState {
+    Open,
+    Closing,
+    Closed,
+    Opening,
+}
+
+impl GripperState {
+    /// Lower-case name, as in the CSV output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Open => "open",
+            Self::Closing => "closing",
+            Self::Closed => "closed",
+            Self::Opening => "opening",
+        }
+    }
+}
+
 impl TimedMotion {
-    /// Sample indices where the gripper closes and opens.
+    /// Sample indices where the object is taken and left, for the collision
+    /// check: the sample at the end of `close` (the gripper has closed: the
+    /// object rides with it from here) and the sample at the start of `open`
+    /// (the object rests where it was put from here). The arm rests through
+    /// both events, so the check sees the same poses on either side.
+    /// A missing event counts as at t = 0.
     pub fn gripper_samples(&self) -> (usize, usize) {
-        let at = |command: GripperCommand| {
-            let t = self
-                .gripper
-                .iter()
-                .find(|e| e.command == command)
-                .map_or(0.0, |e| e.start);
+        let at = |t: f64| {
             self.points
                 .iter()
-                .position(|p| p.time_from_start >= t - 1e-12)
+                .position(|p| p.time_from_start >= t - 1e-9)
                 .unwrap_or(0)
         };
-        (at(GripperCommand::Close), at(GripperCommand::Open))
+        let close = self.event(GripperCommand::Close).map_or(0.0, |e| e.end);
+        let open = self.event(GripperCommand::Open).map_or(0.0, |e| e.start);
+        (at(close), at(open))
+    }
+
+    /// The gripper's state at time `t` of the sub-goal: a command is under
+    /// way from its start (included) to its end (excluded).
+    pub fn gripper_state(&self, t: f64) -> GripperState {
+        let phase = |command| {
+            self.event(command)
+                .map(|e| (t >= e.start, t >= e.end))
+                .unwrap_or((false, false))
+        };
+        match (phase(GripperCommand::Close), phase(GripperCommand::Open)) {
+            (_, (true, true)) => GripperState::Open,
+            (_, (true, false)) => GripperState::Opening,
+            ((true, true), _) => GripperState::Closed,
+            ((true, false), _) => GripperState::Closing,
+            _ => GripperState::Open,
+        }
+    }
+
+    fn event(&self, command: GripperCommand) -> Option<&GripperEvent> {
+        self.gripper.iter().find(|e| e.command == command)
     }
 
     pub fn duration(&self) -> f64 {
@@ -80,9 +130,12 @@ pub struct TimingRequest<'a> {
     pub settings: &'a TimingSettings,
 }
 
-/// Times the three pieces and joins them. `Err` is the reason in words.
+/// Times the three pieces and joins them, with the arm resting while the
+/// gripper closes and opens. `Err` is the reason in words.
 pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
     let limits = arm_limits(r.robot, r.arm);
+    let gripper = r.robot.gripper();
+    let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
     let hands = hands(r.scenario);
     let (grasp, release) = r.switches;
     let total = chord(r.path).max(f64::EPSILON);
@@ -91,16 +144,21 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
         gripper: Vec::new(),
     };
     for (from, to, event) in [
-        (0, grasp, Some(GripperCommand::Close)),
-        (grasp, release, Some(GripperCommand::Open)),
+        (
+            0,
+            grasp,
+            Some((GripperCommand::Close, gripper.closing_time)),
+        ),
+        (
+            grasp,
+            release,
+            Some((GripperCommand::Open, gripper.opening_time)),
+        ),
         (release, r.path.len() - 1, None),
     ] {
         let piece = &r.path[from..=to];
         let proximity = Proximity {
-            tool_positions: piece
-                .iter()
-                .map(|q| r.arm.fk(q).translation.vector.into())
-                .collect(),
+            tool_positions: piece.iter().map(|q| fk(q)).collect(),
             hands: hands.clone(),
             rule: r.separation.clone(),
         };
@@ -111,22 +169,43 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
             path_points: share.max(MIN_PIECE_SEGMENTS),
             ..r.settings.clone()
         };
-        let timing = time_parameterize(piece, &limits, Some(&proximity), &settings)
+        let timing = time_parameterize_tool(piece, &limits, Some(&proximity), Some(&fk), &settings)
             .map_err(|e| e.to_string())?;
         let trajectory = timing
             .trajectory
             .ok_or_else(|| format!("timing failed: {:?}", timing.status))?;
         append(&mut motion, trajectory);
-        if let Some(command) = event {
-            let now = motion.duration();
+        if let Some((command, duration)) = event {
+            let start = motion.duration();
+            rest(&mut motion, duration, r.settings.rate_hz);
             motion.gripper.push(GripperEvent {
                 command,
-                start: now,
-                end: now,
+                start,
+                end: motion.duration(),
             });
         }
     }
     Ok(motion)
+}
+
+/// Holds the motion's last sample (at rest) for `duration` seconds: a
+/// sample every controller period and one exactly at the end.
+fn rest(motion: &mut TimedMotion, duration: f64, rate_hz: f64) {
+    let Some(last) = motion.points.last().cloned() else {
+        return;
+    };
+    let start = last.time_from_start;
+    let count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
+    let still = |t: f64| TrajectoryPoint {
+        time_from_start: t,
+        ..last.clone()
+    };
+    motion
+        .points
+        .extend((1..count).map(|k| still(start + k as f64 / rate_hz)));
+    if duration > 0.0 {
+        motion.points.push(still(start + duration));
+    }
 }
 
 /// Fewest path segments for one piece of a sub-goal's path.
@@ -158,10 +237,12 @@ fn append(motion: &mut TimedMotion, piece: JointTrajectory) {
         }));
 }
 
-/// The arm's velocity and acceleration limits, in its joint order.
+/// The arm's position, velocity and acceleration limits, in its joint order.
 pub fn arm_limits(robot: &RobotModel, arm: &Arm) -> JointLimits {
     let joints = arm.joint_indices.iter().map(|&i| &robot.joints()[i]);
     JointLimits {
+        lower: arm.lower.clone(),
+        upper: arm.upper.clone(),
         velocity: joints.clone().map(|j| j.velocity).collect(),
         acceleration: joints.map(|j| j.acceleration).collect(),
     }

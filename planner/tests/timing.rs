@@ -1,11 +1,15 @@
 //! Time-parameterisation (planner::timing): limits, rest, optimality against
 //! closed forms, the hand-proximity rule, bad input, determinism.
 
+use afford_kinematics::RobotModel;
 use afford_planner::timing::bench::{iiwa_limits, random_smooth_path};
+use afford_planner::timing::deviation::point_segment_distance;
 use afford_planner::timing::{
     Hand, JointLimits, JointTrajectory, Program, Proximity, SeparationSettings, Timing,
-    TimingError, TimingSettings, TimingStatus, time_parameterize,
+    TimingError, TimingSettings, TimingStatus, time_parameterize, time_parameterize_tool,
 };
+use afford_planner::trajectory::{GripperCommand, GripperState};
+use afford_planner::{Plan, PlanOptions, Scenario};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -28,6 +32,8 @@ fn assert_within(trajectory: &JointTrajectory, limits: &JointLimits, scale: f64)
 
 fn single_joint(distance: f64, v: f64, a: f64) -> f64 {
     let limits = JointLimits {
+        lower: vec![-10.0; 1],
+        upper: vec![10.0; 1],
         velocity: vec![v],
         acceleration: vec![a],
     };
@@ -179,6 +185,8 @@ fn planar_case() -> (Vec<Vec<f64>>, JointLimits, Proximity) {
     let path: Vec<Vec<f64>> = (0..=12).map(|k| vec![0.1 * k as f64, 0.0]).collect();
     let tool_positions = path.iter().map(|q| [q[0], q[1], 0.3]).collect();
     let limits = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.5, 1.5],
         acceleration: vec![4.0, 4.0],
     };
@@ -246,6 +254,8 @@ fn zero_crawl_speed_refuses_a_path_inside_the_protective_distance() {
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
     let ok_limits = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0, 1.0],
     };
@@ -271,6 +281,8 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(TimingError::NonFinite { index: 0, .. })
     ));
     let zero = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 0.0],
         acceleration: vec![1.0, 1.0],
     };
@@ -279,12 +291,31 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(TimingError::BadLimit { joint: 1, .. })
     ));
     let short = JointLimits {
+        lower: vec![-10.0; 2],
+        upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0],
     };
     assert!(matches!(
         run(&path, &short, &settings),
         Err(TimingError::SizeMismatch { .. })
+    ));
+    assert!(matches!(
+        run(&[vec![0.0, 0.0], vec![10.5, 1.0]], &ok_limits, &settings),
+        Err(TimingError::WaypointOutsideLimits {
+            index: 1,
+            joint: 0,
+            ..
+        })
+    ));
+    let crossed = JointLimits {
+        lower: vec![-1.0, 1.0],
+        upper: vec![1.0, -1.0],
+        ..ok_limits.clone()
+    };
+    assert!(matches!(
+        run(&path, &crossed, &settings),
+        Err(TimingError::BadPositionLimits { joint: 1, .. })
     ));
     for bad in [
         TimingSettings {
@@ -323,6 +354,8 @@ fn bad_input_is_an_error_not_a_panic() {
 #[test]
 fn repeated_waypoints_merge_and_a_single_configuration_is_at_rest() {
     let limits = JointLimits {
+        lower: vec![-10.0; 1],
+        upper: vec![10.0; 1],
         velocity: vec![1.0],
         acceleration: vec![1.0],
     };
@@ -365,34 +398,92 @@ fn settings_deny_unknown_fields_and_fill_defaults() {
     assert_eq!(t.path_points, 300);
 }
 
+/// The path afford times through `waypoints`, as breakpoints and per-piece
+/// coefficients `[c0, c1, c2, c3]` of every joint, for the toppra script.
+fn blended_path_json(waypoints: &[Vec<f64>]) -> serde_json::Value {
+    use afford_planner::timing::spline::{PiecewiseCubic, chord_knots, widest_radii};
+    let refs: Vec<&[f64]> = waypoints.iter().map(|w| w.as_slice()).collect();
+    let knots = chord_knots(&refs);
+    let path = PiecewiseCubic::blended(&refs, &knots, &widest_radii(&knots));
+    let coefficients: Vec<Vec<[f64; 4]>> = (0..path.pieces())
+        .map(|p| (0..path.dim()).map(|j| path.piece(p, j)).collect())
+        .collect();
+    serde_json::json!({"breakpoints": path.knots(), "coefficients": coefficients})
+}
+
+fn reference_case(waypoints: &[Vec<f64>], limits: &JointLimits, name: &str) -> serde_json::Value {
+    let mut durations = serde_json::Map::new();
+    for n in [100, 200, 300, 400, 1000] {
+        let settings = TimingSettings {
+            path_points: n,
+            ..TimingSettings::default()
+        };
+        let timing = time_parameterize(waypoints, limits, None, &settings).unwrap();
+        durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
+    }
+    serde_json::json!({
+        "name": name,
+        "waypoints": waypoints,
+        "velocity_limits": limits.velocity,
+        "acceleration_limits": limits.acceleration,
+        "path": blended_path_json(waypoints),
+        "afford_duration_s": durations,
+    })
+}
+
 /// Writes a JSON case for `scripts/toppra_reference.py` (not run by default):
 /// `AFFORD_TIMING_CASE=/tmp/case.json cargo test --release -p afford-planner
-/// --test timing -- --ignored export_reference_case`.
+/// --test timing -- --ignored export_reference_case`. Ten seeded random
+/// 7-joint paths, then the real paths of two examples (every piece of every
+/// sub-goal of sort-blue-squares and cob4-sort-blue-squares, cut where the
+/// gripper acts, with the robot's limits; position limits play no part).
 #[test]
 #[ignore = "writes a file for the toppra comparison script"]
 fn export_reference_case() {
     let out = std::env::var("AFFORD_TIMING_CASE").unwrap_or("timing_case.json".into());
     let limits = iiwa_limits();
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let mut cases = Vec::new();
-    for _ in 0..10 {
-        let path = random_smooth_path(&mut rng, 7, 12);
-        let mut durations = serde_json::Map::new();
-        for n in [100, 200, 300, 400, 1000] {
-            let settings = TimingSettings {
-                path_points: n,
-                ..TimingSettings::default()
+    let mut cases: Vec<serde_json::Value> = (0..10)
+        .map(|k| {
+            reference_case(
+                &random_smooth_path(&mut rng, 7, 12),
+                &limits,
+                &format!("random {k}"),
+            )
+        })
+        .collect();
+    for (file, model) in [
+        ("sort-blue-squares", "kuka_iiwa14"),
+        ("cob4-sort-blue-squares", "care_o_bot4"),
+    ] {
+        let robot = RobotModel::builtin(model).unwrap();
+        let plan = plan(
+            &load(&format!("../examples/{file}.yaml")),
+            &PlanOptions::default(),
+        );
+        for (k, sub) in plan.subgoals.iter().enumerate() {
+            let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
+            else {
+                continue;
             };
-            let timing = time_parameterize(&path, &limits, None, &settings).unwrap();
-            durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
+            let limits = afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap());
+            let (taken, left) = t.gripper_samples();
+            let at = |sample: usize| {
+                path.iter()
+                    .position(|q| *q == t.points[sample].positions)
+                    .unwrap()
+            };
+            let cuts = [0, at(taken), at(left), path.len() - 1];
+            for (m, w) in cuts.windows(2).enumerate() {
+                let mut piece = path[w[0]..=w[1]].to_vec();
+                piece.dedup();
+                cases.push(reference_case(
+                    &piece,
+                    &limits,
+                    &format!("{file} [{k}] piece {m}"),
+                ));
+            }
         }
-        cases.push(serde_json::json!({
-            "waypoints": path,
-            "velocity_limits": limits.velocity,
-            "acceleration_limits": limits.acceleration,
-            "spline": "natural cubic, chord-length knots",
-            "afford_duration_s": durations,
-        }));
     }
     let doc = serde_json::json!({"cases": cases});
     std::fs::write(&out, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
@@ -405,4 +496,428 @@ fn export_reference_case() {
 fn print_bench_report() {
     let report = afford_planner::timing::timing_benchmark(&Default::default());
     println!("{}", serde_json::to_string(&report).unwrap());
+}
+
+fn load(path: &str) -> Scenario {
+    afford_planner::scenario::load(std::path::Path::new(path)).unwrap()
+}
+
+fn plan(scenario: &Scenario, options: &PlanOptions) -> Plan {
+    afford_planner::plan(scenario, options).unwrap()
+}
+
+/// Largest step of any sample outside its joint's position limits, rad
+/// (negative: every sample inside by that much), with the joint's name.
+fn position_excess(plan: &Plan, robot: &RobotModel) -> (f64, String) {
+    let mut worst = (f64::NEG_INFINITY, String::new());
+    for sub in &plan.subgoals {
+        let (Some(t), Some(arm)) = (&sub.trajectory, &sub.arm) else {
+            continue;
+        };
+        let arm = robot.arm(arm).unwrap();
+        for p in &t.points {
+            for (j, q) in p.positions.iter().enumerate() {
+                let excess = (arm.lower[j] - q).max(q - arm.upper[j]);
+                if excess > worst.0 {
+                    worst = (excess, arm.joint_names[j].clone());
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Largest distance, metres, of any sample's tool from the tool path of the
+/// joint polyline the collision stage checked (an independent measurement:
+/// every joint segment traced at 200 points, every sample against all of them).
+fn tool_deviation(plan: &Plan, robot: &RobotModel) -> f64 {
+    let mut worst: f64 = 0.0;
+    for sub in &plan.subgoals {
+        let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm) else {
+            continue;
+        };
+        let arm = robot.arm(arm).unwrap();
+        let fk = |q: &[f64]| -> [f64; 3] { arm.fk(q).translation.vector.into() };
+        let traced: Vec<[f64; 3]> = path
+            .windows(2)
+            .flat_map(|w| {
+                (0..=200).map(|m| {
+                    let u = m as f64 / 200.0;
+                    let q: Vec<f64> = w[0]
+                        .iter()
+                        .zip(&w[1])
+                        .map(|(a, b)| a + u * (b - a))
+                        .collect();
+                    fk(&q)
+                })
+            })
+            .collect();
+        for p in &t.points {
+            let tool = fk(&p.positions);
+            let d = traced
+                .windows(2)
+                .map(|w| point_segment_distance(tool, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+    }
+    worst
+}
+
+/// The fixture's header: "plans (exit 0) with every trajectory sample inside
+/// the joint position limits (iiwa joint_a4 >= -2.0944 rad), or refuses the
+/// sub-goal with the joint named". A natural cubic spline through the joint
+/// waypoints took joint_a4 to -2.1329 rad between waypoints inside the limits.
+#[test]
+fn limits_spline_overshoot_between_waypoints() {
+    let scenario = load("../tests/fixtures/cases/limits-spline-overshoot-tall-object.yaml");
+    let robot = RobotModel::builtin("kuka_iiwa14").unwrap();
+    let plan = plan(&scenario, &PlanOptions::default());
+    for unsolved in &plan.unsolved {
+        assert!(unsolved.reason.contains("joint_a"), "{}", unsolved.reason);
+    }
+    assert!(plan.subgoals.iter().all(|s| s.trajectory.is_some()));
+    let (excess, joint) = position_excess(&plan, &robot);
+    assert!(excess <= 0.0, "{joint} is {excess} rad outside its limits");
+}
+
+/// The same kind on a bare joint path: joint 0 runs up to its upper limit
+/// and stays there while joint 1 moves on. Every sample stays inside (a
+/// natural cubic spline through these waypoints reaches 1.0085).
+#[test]
+fn joint_at_its_limit_at_a_corner_stays_inside() {
+    let mut path: Vec<Vec<f64>> = (0..=10).map(|k| vec![0.1 * k as f64, 0.0]).collect();
+    path.extend((1..=10).map(|k| vec![1.0, 0.1 * k as f64]));
+    let limits = JointLimits {
+        lower: vec![-1.0, -1.0],
+        upper: vec![1.0, 1.0],
+        velocity: vec![1.0, 1.0],
+        acceleration: vec![4.0, 4.0],
+    };
+    let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
+    let trajectory = solved(&timing);
+    let highest = trajectory
+        .points
+        .iter()
+        .map(|p| p.positions[0])
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(highest <= 1.0, "joint 0 reaches {highest}");
+    assert!(highest > 1.0 - 1e-9, "the waypoint at the limit is reached");
+}
+
+/// A long joint segment beside 1 cm ones (the first move of a sub-goal):
+/// the natural cubic spline swung the tool ~98 mm off the planned path.
+/// Here the "arm" maps joints to the tool one to one (metres), so the tool
+/// path is the joint polyline itself (a natural cubic spline through these
+/// waypoints is 107 mm off it). Then the real first move of
+/// sort-blue-squares, 104 mm off with the natural spline.
+#[test]
+fn tool_leaves_planned_path_on_long_first_segment() {
+    let mut path = vec![vec![0.0, 0.0], vec![0.6, 0.2]];
+    path.extend((1..=15).map(|k| vec![0.6 + 0.01 * k as f64, 0.2 - 0.01 * k as f64]));
+    let limits = JointLimits {
+        lower: vec![-2.0, -2.0],
+        upper: vec![2.0, 2.0],
+        velocity: vec![1.0, 1.0],
+        acceleration: vec![4.0, 4.0],
+    };
+    let fk = |q: &[f64]| [q[0], q[1], 0.0];
+    let settings = TimingSettings::default();
+    let timing = time_parameterize_tool(&path, &limits, None, Some(&fk), &settings).unwrap();
+    let trajectory = solved(&timing);
+    let worst = trajectory
+        .points
+        .iter()
+        .map(|p| {
+            path.windows(2)
+                .map(|w| point_segment_distance(fk(&p.positions), fk(&w[0]), fk(&w[1])))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= settings.max_tool_deviation_m,
+        "the tool is {worst} m off the planned path"
+    );
+    let robot = RobotModel::builtin("kuka_iiwa14").unwrap();
+    let real = plan(
+        &load("../examples/sort-blue-squares.yaml"),
+        &PlanOptions::default(),
+    );
+    let deviation = tool_deviation(&real, &robot);
+    assert!(
+        deviation <= settings.max_tool_deviation_m,
+        "sort-blue-squares: the tool is {deviation} m off the checked path"
+    );
+}
+
+/// The per-sample check refuses a path whose blends cannot keep the tool
+/// within the tolerance: a tolerance far below what any blend reaches is a
+/// status, never a trajectory.
+#[test]
+fn tool_path_tolerance_is_checked_on_every_sample() {
+    let path = vec![vec![0.0, 0.0], vec![0.5, 0.0], vec![0.5, 0.5]];
+    let limits = JointLimits {
+        lower: vec![-2.0, -2.0],
+        upper: vec![2.0, 2.0],
+        velocity: vec![1.0, 1.0],
+        acceleration: vec![4.0, 4.0],
+    };
+    // The tool moves 1000× the joints: a blend sized for the tolerance in
+    // the linear estimate is checked, and passes.
+    let fk = |q: &[f64]| [1000.0 * q[0], 1000.0 * q[1], 0.0];
+    let settings = TimingSettings::default();
+    let timing = time_parameterize_tool(&path, &limits, None, Some(&fk), &settings).unwrap();
+    solved(&timing);
+    // A forward kinematics that disagrees with itself between the blend
+    // sizing and the check (a jump away from the corner) is caught.
+    let jumpy = |q: &[f64]| {
+        let off = if q[0] > 0.45 && q[0] < 0.5 && q[1] > 0.0 {
+            0.1
+        } else {
+            0.0
+        };
+        [q[0] + off, q[1], 0.0]
+    };
+    let timing = time_parameterize_tool(&path, &limits, None, Some(&jumpy), &settings).unwrap();
+    assert!(timing.trajectory.is_none());
+    assert!(
+        matches!(&timing.status, TimingStatus::LimitViolated { violation } if violation.kind == afford_planner::timing::LimitKind::ToolDeviation),
+        "{:?}",
+        timing.status
+    );
+}
+
+/// Care-O-bot torso and wrist joints went 1-3 mrad past their limits with the
+/// natural cubic spline (0.8 mrad on cob4-extra-pieces, 0.1 mrad on
+/// cob4-here-pointing); now every sample stays inside the limits and the
+/// tool within the tolerance of the checked path.
+#[test]
+fn cob_torso_and_wrist_stay_within_limits_between_waypoints() {
+    let robot = RobotModel::builtin("care_o_bot4").unwrap();
+    for file in [
+        "../examples/cob4-extra-pieces.yaml",
+        "../examples/cob4-here-pointing.yaml",
+    ] {
+        let options = PlanOptions::default();
+        let plan = plan(&load(file), &options);
+        assert!(plan.subgoals.len() >= 2, "{file}: {:?}", plan.unsolved);
+        let (excess, joint) = position_excess(&plan, &robot);
+        assert!(excess <= 0.0, "{file}: {joint} is {excess} rad outside");
+        let deviation = tool_deviation(&plan, &robot);
+        assert!(
+            deviation <= options.timing.max_tool_deviation_m,
+            "{file}: the tool is {deviation} m off the checked path"
+        );
+    }
+}
+
+/// A continuous joint (infinite limits) may sit anywhere, e.g. at 7 rad.
+#[test]
+fn continuous_joint_has_no_position_limit() {
+    let limits = JointLimits {
+        lower: vec![f64::NEG_INFINITY, -1.0],
+        upper: vec![f64::INFINITY, 1.0],
+        velocity: vec![1.0, 1.0],
+        acceleration: vec![4.0, 4.0],
+    };
+    let path = vec![vec![7.0, 0.0], vec![7.5, 0.5], vec![8.0, 0.5]];
+    let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
+    let trajectory = solved(&timing);
+    assert_eq!(trajectory.points.last().unwrap().positions, vec![8.0, 0.5]);
+}
+
+/// Every sub-goal: one close then one open, each taking the robot
+/// description's time; samples exactly at each event's start and end; the
+/// arm still (same positions, zero velocity and acceleration) on every
+/// sample between; the trajectory starts at t = 0 and ends at rest.
+fn assert_gripper_dwell(plan: &Plan, closing: f64, opening: f64) {
+    for sub in &plan.subgoals {
+        let t = sub.trajectory.as_ref().unwrap();
+        let commands: Vec<GripperCommand> = t.gripper.iter().map(|e| e.command).collect();
+        assert_eq!(commands, [GripperCommand::Close, GripperCommand::Open]);
+        assert!(t.gripper[0].end <= t.gripper[1].start);
+        for (event, time) in t.gripper.iter().zip([closing, opening]) {
+            assert!((event.end - event.start - time).abs() < 1e-12, "{event:?}");
+            let at = |time: f64| t.points.iter().position(|p| p.time_from_start == time);
+            let (first, last) = (at(event.start).unwrap(), at(event.end).unwrap());
+            assert!(last > first || time == 0.0);
+            for p in &t.points[first..=last] {
+                assert_eq!(p.positions, t.points[first].positions);
+                assert!(
+                    p.velocities
+                        .iter()
+                        .chain(&p.accelerations)
+                        .all(|v| *v == 0.0)
+                );
+            }
+        }
+        let (start, end) = (&t.points[0], t.points.last().unwrap());
+        assert_eq!(start.time_from_start, 0.0);
+        for p in [start, end] {
+            assert!(
+                p.velocities
+                    .iter()
+                    .chain(&p.accelerations)
+                    .all(|v| *v == 0.0)
+            );
+        }
+        assert_eq!(
+            &end.positions,
+            sub.joint_path.as_ref().unwrap().last().unwrap()
+        );
+        let states: Vec<GripperState> = t
+            .points
+            .iter()
+            .map(|p| t.gripper_state(p.time_from_start))
+            .collect();
+        let mut phases = states.clone();
+        phases.dedup();
+        let expected = [
+            GripperState::Open,
+            GripperState::Closing,
+            GripperState::Closed,
+            GripperState::Opening,
+            GripperState::Open,
+        ];
+        assert_eq!(
+            phases,
+            expected
+                .iter()
+                .copied()
+                .filter(|s| closing > 0.0 || *s != GripperState::Closing)
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn gripper_dwell_holds_the_arm_at_rest_for_the_closing_time() {
+    let robot = RobotModel::builtin("kuka_iiwa14").unwrap();
+    let gripper = robot.gripper();
+    assert!(gripper.closing_time > 0.0 && gripper.opening_time > 0.0);
+    let plan = plan(
+        &load("../examples/sort-blue-squares.yaml"),
+        &PlanOptions::default(),
+    );
+    assert!(!plan.subgoals.is_empty());
+    assert_gripper_dwell(&plan, gripper.closing_time, gripper.opening_time);
+}
+
+/// The times come from the robot description: a copy of the iiwa with a
+/// 0.8 s close and a 0.3 s open.
+#[test]
+fn gripper_dwell_follows_the_robot_descriptions_times() {
+    let dir = std::env::temp_dir().join(format!("afford-gripper-time-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy("../robots/kuka_iiwa14.urdf", dir.join("kuka_iiwa14.urdf")).unwrap();
+    let description = std::fs::read_to_string("../robots/kuka_iiwa14.yaml").unwrap();
+    let changed = description
+        .replace("closing_time: 0.5", "closing_time: 0.8")
+        .replace("opening_time: 0.5", "opening_time: 0.3");
+    assert_ne!(changed, description, "the description names both times");
+    std::fs::write(dir.join("robot.yaml"), changed).unwrap();
+    let mut scenario = load("../examples/sort-blue-squares.yaml");
+    scenario.robot.model = "robot.yaml".into();
+    let options = PlanOptions {
+        base_dir: dir.clone(),
+        ..PlanOptions::default()
+    };
+    let plan = plan(&scenario, &options);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_gripper_dwell(&plan, 0.8, 0.3);
+}
+
+/// The collision check sees the object taken where the gripper has closed
+/// and left where it starts to open: those samples' poses are the grasp and
+/// release configurations of the joint path.
+#[test]
+fn gripper_samples_mark_where_the_object_is_taken_and_left() {
+    let plan = plan(
+        &load("../examples/sort-blue-squares.yaml"),
+        &PlanOptions::default(),
+    );
+    for sub in &plan.subgoals {
+        let t = sub.trajectory.as_ref().unwrap();
+        let (taken, left) = t.gripper_samples();
+        assert_eq!(t.points[taken].time_from_start, t.gripper[0].end);
+        assert_eq!(t.points[left].time_from_start, t.gripper[1].start);
+        let path = sub.joint_path.as_ref().unwrap();
+        assert!(path.contains(&t.points[taken].positions));
+        assert!(path.contains(&t.points[left].positions));
+    }
+}
+
+/// Tool positions of the samples against the planned tool path (the
+/// polyline through the forward kinematics of the joint waypoints), and the
+/// largest step outside the joint position limits, on every example and
+/// fixture case (not run by default):
+/// `cargo test --release -p afford-planner --test timing -- --ignored --nocapture measure_examples`.
+#[test]
+#[ignore = "measurement: prints per-scenario figures"]
+fn measure_examples() {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir("../examples")
+        .unwrap()
+        .chain(std::fs::read_dir("../tests/fixtures/cases").unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    for file in files {
+        let scenario = afford_planner::scenario::load(&file).unwrap();
+        let Ok(plan) = afford_planner::plan(&scenario, &Default::default()) else {
+            println!("{}: no plan", file.display());
+            continue;
+        };
+        let robot = RobotModel::builtin(&scenario.robot.model).unwrap();
+        for (k, sub) in plan.subgoals.iter().enumerate() {
+            let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
+            else {
+                continue;
+            };
+            let arm = robot.arm(arm).unwrap();
+            let fk = |q: &[f64]| -> [f64; 3] { arm.fk(q).translation.vector.into() };
+            let poly: Vec<[f64; 3]> = path.iter().map(|q| fk(q)).collect();
+            let deviation = |p: [f64; 3]| {
+                poly.windows(2)
+                    .map(|w| {
+                        afford_planner::timing::deviation::point_segment_distance(p, w[0], w[1])
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let sampled = t
+                .points
+                .iter()
+                .map(|p| deviation(fk(&p.positions)))
+                .fold(0.0, f64::max);
+            let mut linear: f64 = 0.0;
+            for w in path.windows(2) {
+                for m in 1..20 {
+                    let u = m as f64 / 20.0;
+                    let q: Vec<f64> = w[0]
+                        .iter()
+                        .zip(&w[1])
+                        .map(|(a, b)| a + u * (b - a))
+                        .collect();
+                    linear = linear.max(deviation(fk(&q)));
+                }
+            }
+            let over = t
+                .points
+                .iter()
+                .flat_map(|p| {
+                    p.positions
+                        .iter()
+                        .enumerate()
+                        .map(|(j, q)| (arm.lower[j] - q).max(q - arm.upper[j]))
+                })
+                .fold(f64::NEG_INFINITY, f64::max);
+            println!(
+                "{} [{k}] duration {:.3} s, tool deviation {:.2} mm (joint-linear {:.2} mm), position excess {:.4} rad",
+                file.file_name().unwrap().to_string_lossy(),
+                t.duration(),
+                1e3 * sampled,
+                1e3 * linear,
+                over
+            );
+        }
+    }
 }

@@ -48,7 +48,8 @@ pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
 }
 
 /// The trajectories of a plan as CSV, one row per sample: sub-goal index,
-/// object, arm, time, gripper state, then positions `q1…qn`, velocities
+/// object, arm, time, gripper state (`open`, `closing`, `closed`,
+/// `opening`: a command is under way from its start to its end), then positions `q1…qn`, velocities
 /// `v1…vn` and accelerations `a1…an` in the order of that sub-goal's
 /// `joint_names`. Time restarts at 0 with each sub-goal.
 pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
@@ -75,13 +76,8 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
     let mut out = header.join(",") + "\n";
     for (k, s) in plan.subgoals.iter().enumerate() {
         let Some(t) = &s.trajectory else { continue };
-        let (close, open) = t.gripper_samples();
-        for (i, p) in t.points.iter().enumerate() {
-            let gripper = if (close..open).contains(&i) {
-                "closed"
-            } else {
-                "open"
-            };
+        for p in &t.points {
+            let gripper = t.gripper_state(p.time_from_start).name();
             let values = p
                 .positions
                 .iter()
@@ -98,4 +94,32 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The gripper column follows the events: open, closing for the closing
+    /// time, closed while carrying, opening, open again.
+    #[test]
+    fn csv_shows_the_gripper_state_per_sample() {
+        let scenario = afford_planner::scenario::default_scenario().unwrap();
+        let plan = afford_planner::plan(&scenario, &Default::default()).unwrap();
+        let csv = render_csv(&plan).unwrap();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let column = header.iter().position(|h| *h == "gripper").unwrap();
+        let first_subgoal: Vec<&str> = lines
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|row| row[0] == "0")
+            .map(|row| row[column])
+            .collect();
+        let mut phases = first_subgoal.clone();
+        phases.dedup();
+        assert_eq!(phases, ["open", "closing", "closed", "opening", "open"]);
+        let closing = first_subgoal.iter().filter(|s| **s == "closing").count();
+        // 0.5 s at 100 Hz: the samples from the command's start up to its end.
+        assert_eq!(closing, 50);
+    }
 }

@@ -14,9 +14,13 @@ pub const IIWA_VELOCITY: [f64; 7] = [1.48, 1.48, 1.75, 1.31, 2.27, 2.36, 2.36];
 /// iiwa-like joint acceleration limits, rad/s².
 pub const IIWA_ACCELERATION: [f64; 7] = [8.57, 8.57, 8.74, 11.36, 12.23, 15.72, 15.72];
 
-/// The iiwa-like limits as [`JointLimits`].
+/// The iiwa-like velocity and acceleration limits as [`JointLimits`]; no
+/// position limits (the random walks of [`random_smooth_path`] may leave
+/// the iiwa's range, and positions do not enter the timing program).
 pub fn iiwa_limits() -> JointLimits {
     JointLimits {
+        lower: vec![f64::NEG_INFINITY; 7],
+        upper: vec![f64::INFINITY; 7],
         velocity: IIWA_VELOCITY.to_vec(),
         acceleration: IIWA_ACCELERATION.to_vec(),
     }

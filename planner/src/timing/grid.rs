@@ -29,7 +29,7 @@
 //! frontier of `{0} ∪ {(α, β)}` can be active (`b ≥ 0`); the others are
 //! dropped, leaving typically 2–4 rows per segment.
 
-use super::spline::CubicSpline;
+use super::spline::PiecewiseCubic;
 
 /// The discretised path: grid points and the spline piece of each segment.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,7 +43,7 @@ pub struct PathGrid {
 impl PathGrid {
     /// About `segments` segments, spread over the pieces by length, at least
     /// one per piece, uniform inside a piece.
-    pub fn new(spline: &CubicSpline, segments: usize) -> Self {
+    pub fn new(spline: &PiecewiseCubic, segments: usize) -> Self {
         let knots = spline.knots();
         let length = spline.length();
         let pieces = spline.pieces();
@@ -91,7 +91,7 @@ impl PathGrid {
 /// Monomial coefficients in `θ` of `q'_j` (degree 2) and `q''_j` (degree 1)
 /// on segment `i`.
 fn derivatives_on_segment(
-    spline: &CubicSpline,
+    spline: &PiecewiseCubic,
     grid: &PathGrid,
     i: usize,
     j: usize,
@@ -135,12 +135,12 @@ fn binomial(n: usize, k: usize) -> f64 {
 /// `vel_sq[j] = v_j²`, `acc[j] = A_j` (already scaled and margined);
 /// `tool` is the tool spline (same knots) and the squared cap on this segment.
 pub fn segment_rows(
-    spline: &CubicSpline,
+    spline: &PiecewiseCubic,
     grid: &PathGrid,
     i: usize,
     vel_sq: &[f64],
     acc: &[f64],
-    tool: Option<(&CubicSpline, f64)>,
+    tool: Option<(&PiecewiseCubic, f64)>,
     rows: &mut Vec<(f64, f64)>,
 ) {
     let ds = grid.step(i);

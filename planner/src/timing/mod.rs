@@ -1,11 +1,15 @@
 //! # Time-parameterisation: a joint path in, a time-optimal trajectory out
 //!
-//! One arm's joint path from IK (waypoints `q_0 … q_{W−1}`, rad) is made C2
-//! by a natural cubic spline `q(s)` with chord-length knots
-//! ([`spline`]), cut into `N` segments ([`grid`]), timed by one convex
-//! program solved with Clarabel ([`topp`]) and sampled at the controller
-//! rate ([`sample`]). Stages, in [`time_parameterize`]:
-//! spline → grid → separation caps → rows → SOCP → sampling → check.
+//! One arm's joint path from IK (waypoints `q_0 … q_{W−1}`, rad) becomes a
+//! C1 path `q(s)` with chord-length knots: the joint polyline with each
+//! corner rounded by a quadratic Bézier blend ([`spline`]), which never
+//! leaves the range of its waypoints (so never a position limit they
+//! respect) and stays within [`TimingSettings::max_tool_deviation_m`] of
+//! the planned tool path ([`deviation`]). It is cut into `N` segments
+//! ([`grid`]), timed by one convex program solved with Clarabel ([`topp`])
+//! and sampled at the controller rate ([`sample`]). Stages, in
+//! [`time_parameterize_tool`]: blended path → grid → separation caps → rows
+//! → LP/SOCP → sampling → check of every sample.
 //!
 //! ## The convex program
 //!
@@ -39,8 +43,9 @@
 //! constraint on the whole segment, not just at grid points; that, and a
 //! relative margin of [`TimingSettings::limit_margin`] on every limit, is why
 //! every sample at any rate is within the limits. Each sample is still
-//! checked ([`sample::verify`]) and a violation is a status, never a
-//! trajectory.
+//! checked ([`sample::verify`]: positions, velocities, accelerations, tool
+//! speed near hands, the tool's distance from the planned tool path) and a
+//! violation is a status, never a trajectory.
 //!
 //! Speed scale `k ∈ (0, 1]` multiplies velocity limits by `k` and
 //! acceleration limits by `k²`: the result is the time-optimal trajectory
@@ -53,19 +58,25 @@
 //! With tool positions per waypoint (robot base frame, m) and hands, the tool
 //! speed is capped on each segment by the speed-and-separation rule of
 //! [`separation`] (ISO/TS 15066, ISO 13855, ISO 10218-1; defaults in
-//! [`SeparationSettings`]). The tool path `p(s)` is the cubic spline of the
-//! tool positions on the same knots as the joint path.
+//! [`SeparationSettings`]). The tool path `p(s)` is the same blended
+//! construction on the tool positions, with the joint path's knots and radii.
 //!
 //! ```
 //! use afford_planner::timing::{JointLimits, TimingSettings, time_parameterize};
 //! let path = vec![vec![0.0, 0.0], vec![0.5, -0.2], vec![1.0, 0.3]];
-//! let limits = JointLimits { velocity: vec![1.0, 1.0], acceleration: vec![5.0, 5.0] };
+//! let limits = JointLimits {
+//!     lower: vec![-3.0, -3.0],
+//!     upper: vec![3.0, 3.0],
+//!     velocity: vec![1.0, 1.0],
+//!     acceleration: vec![5.0, 5.0],
+//! };
 //! let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
 //! let trajectory = timing.trajectory.expect("solved");
 //! assert!(trajectory.points.last().unwrap().velocities.iter().all(|v| v.abs() < 1e-9));
 //! ```
 
 pub mod bench;
+pub mod deviation;
 pub mod grid;
 pub mod sample;
 pub mod separation;
@@ -75,9 +86,10 @@ pub mod topp;
 mod run;
 
 pub use bench::{TimingBenchReport, TimingBenchSettings, timing_benchmark};
+pub use deviation::ToolFk;
 pub use run::{
     JointLimits, Proximity, SeparationSummary, SolveStats, Timing, TimingError, TimingSettings,
-    TimingStatus, time_parameterize,
+    TimingStatus, time_parameterize, time_parameterize_tool,
 };
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};

@@ -8,8 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::deviation::ToolPathCheck;
 use super::grid::PathGrid;
-use super::spline::CubicSpline;
+use super::spline::PiecewiseCubic;
 
 /// One sample, the shape of ROS `trajectory_msgs/JointTrajectoryPoint`
 /// (rad, rad/s, rad/s², seconds from the start).
@@ -80,9 +81,16 @@ impl SpeedProfile {
     }
 }
 
-/// Samples at `rate_hz`, from 0 to the duration inclusive (the last sample
-/// lands exactly on the end, at rest).
-pub fn sample(spline: &CubicSpline, profile: &SpeedProfile, rate_hz: f64) -> JointTrajectory {
+/// Samples at `rate_hz`, from 0 to the duration inclusive. The first and
+/// last samples are exactly at rest on `ends` (the first and last
+/// waypoints): positions the waypoints, velocities and accelerations 0,
+/// times exactly 0 and the duration.
+pub fn sample(
+    spline: &PiecewiseCubic,
+    profile: &SpeedProfile,
+    rate_hz: f64,
+    ends: (&[f64], &[f64]),
+) -> JointTrajectory {
     let duration = profile.duration();
     let dim = spline.dim();
     let period = 1.0 / rate_hz;
@@ -106,6 +114,12 @@ pub fn sample(spline: &CubicSpline, profile: &SpeedProfile, rate_hz: f64) -> Joi
             time_from_start: t,
         });
     }
+    for (point, at) in [(0, ends.0), (count, ends.1)] {
+        let p = &mut points[point];
+        p.positions.copy_from_slice(at);
+        p.velocities.fill(0.0);
+        p.accelerations.fill(0.0);
+    }
     JointTrajectory { points }
 }
 
@@ -113,9 +127,12 @@ pub fn sample(spline: &CubicSpline, profile: &SpeedProfile, rate_hz: f64) -> Joi
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LimitKind {
+    Position,
     Velocity,
     Acceleration,
     ToolSpeed,
+    /// The tool's distance from the planned tool path, metres.
+    ToolDeviation,
 }
 
 /// The first sample found outside its limit.
@@ -130,24 +147,63 @@ pub struct LimitViolation {
     pub limit: f64,
 }
 
-/// Every sample within `velocity`/`acceleration` (× (1 + `tolerance`)), and the
-/// tool speed within the cap of its segment when a tool path is given.
+/// The joint limits every sample is checked against (already scaled by the
+/// speed scale), one entry per joint.
+pub struct SampleLimits<'a> {
+    /// Position limits, rad (m); infinite for a continuous joint (unchecked).
+    pub lower: &'a [f64],
+    pub upper: &'a [f64],
+    pub velocity: &'a [f64],
+    pub acceleration: &'a [f64],
+    /// Relative tolerance: a velocity or acceleration up to `limit (1 +
+    /// tolerance)`, a position up to `tolerance · max(1, |limit|)` beyond.
+    pub tolerance: f64,
+}
+
+/// The path the samples were taken on and its tool-side checks.
+pub struct PathChecks<'a> {
+    pub path: &'a PiecewiseCubic,
+    pub profile: &'a SpeedProfile,
+    /// The tool path (same knots) and the tool-speed cap of every grid segment, m/s.
+    pub tool_speed: Option<(&'a PiecewiseCubic, &'a [f64])>,
+    /// The planned tool path and its tolerance.
+    pub tool_path: Option<&'a ToolPathCheck<'a>>,
+}
+
+/// Every sample within the position limits, the velocity and acceleration
+/// limits, the tool-speed cap of its segment and the planned tool path's
+/// tolerance (the last two when given). `Err` names the first sample found
+/// outside, in this order.
 pub fn verify(
     trajectory: &JointTrajectory,
-    velocity: &[f64],
-    acceleration: &[f64],
-    tolerance: f64,
-    tool: Option<(&CubicSpline, &SpeedProfile, &[f64])>,
+    limits: &SampleLimits,
+    checks: &PathChecks,
 ) -> Result<(), LimitViolation> {
+    let tolerance = limits.tolerance;
     for (k, p) in trajectory.points.iter().enumerate() {
-        for j in 0..velocity.len() {
-            let checks = [
-                (LimitKind::Velocity, p.velocities[j], velocity[j]),
-                (LimitKind::Acceleration, p.accelerations[j], acceleration[j]),
+        for j in 0..limits.velocity.len() {
+            let (q, lower, upper) = (p.positions[j], limits.lower[j], limits.upper[j]);
+            let slack = |limit: f64| tolerance * limit.abs().max(1.0);
+            let position = [
+                (lower, q >= lower - slack(lower)),
+                (upper, q <= upper + slack(upper)),
+            ]
+            .into_iter()
+            .find(|(limit, ok)| limit.is_finite() && !ok)
+            .map(|(limit, _)| (LimitKind::Position, q, limit));
+            let rates = [
+                (LimitKind::Velocity, p.velocities[j], limits.velocity[j]),
+                (
+                    LimitKind::Acceleration,
+                    p.accelerations[j],
+                    limits.acceleration[j],
+                ),
             ];
-            if let Some((kind, value, limit)) =
-                checks.into_iter().find(|c| !within(c.1, c.2, tolerance))
-            {
+            let broken = position
+                .into_iter()
+                .chain(rates.into_iter().filter(|c| !within(c.1, c.2, tolerance)))
+                .next();
+            if let Some((kind, value, limit)) = broken {
                 return Err(LimitViolation {
                     kind,
                     sample: k,
@@ -157,10 +213,10 @@ pub fn verify(
                 });
             }
         }
-        if let Some((spline, profile, caps)) = tool {
-            let (s, s_dot, _, segment) = profile.state_at(p.time_from_start);
+        let (s, s_dot, _, segment) = checks.profile.state_at(p.time_from_start);
+        if let Some((tool, caps)) = checks.tool_speed {
             let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-            spline.eval(s, &mut x, &mut dx, &mut ddx);
+            tool.eval(s, &mut x, &mut dx, &mut ddx);
             let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
             if !within(speed, caps[segment], tolerance) {
                 return Err(LimitViolation {
@@ -172,6 +228,20 @@ pub fn verify(
                 });
             }
         }
+        if let Some(planned) = checks.tool_path {
+            let (piece, _) = checks.path.locate(s);
+            let distance =
+                planned.distance(planned.fk_of(&p.positions), checks.path.segments_of(piece));
+            if !within(distance, planned.tolerance_m, 0.0) {
+                return Err(LimitViolation {
+                    kind: LimitKind::ToolDeviation,
+                    sample: k,
+                    joint: 0,
+                    value: distance,
+                    limit: planned.tolerance_m,
+                });
+            }
+        }
     }
     Ok(())
 }
@@ -179,4 +249,70 @@ pub fn verify(
 /// `|value| ≤ limit (1 + tolerance)`; false for NaN.
 fn within(value: f64, limit: f64, tolerance: f64) -> bool {
     value.abs() <= limit * (1.0 + tolerance)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::spline::{chord_knots, widest_radii};
+    use super::*;
+
+    /// A trajectory of two joints timed on a blended path, its profile, and
+    /// the path; the second joint is continuous (infinite limits).
+    fn timed() -> (JointTrajectory, PiecewiseCubic, SpeedProfile) {
+        let points: Vec<&[f64]> = vec![&[0.0, 0.0], &[0.5, 7.0], &[1.0, 7.5]];
+        let knots = chord_knots(&points);
+        let path = PiecewiseCubic::blended(&points, &knots, &widest_radii(&knots));
+        let grid = PathGrid::new(&path, 50);
+        let mut b = vec![0.04; grid.s.len()];
+        b[0] = 0.0;
+        *b.last_mut().unwrap() = 0.0;
+        let profile = SpeedProfile::new(&grid, &b);
+        let trajectory = sample(&path, &profile, 100.0, (points[0], points[2]));
+        (trajectory, path, profile)
+    }
+
+    fn check(
+        trajectory: &JointTrajectory,
+        path: &PiecewiseCubic,
+        profile: &SpeedProfile,
+    ) -> Result<(), LimitViolation> {
+        let limits = SampleLimits {
+            lower: &[-1.0, f64::NEG_INFINITY],
+            upper: &[1.0, f64::INFINITY],
+            velocity: &[10.0, 10.0],
+            acceleration: &[100.0, 100.0],
+            tolerance: 1e-6,
+        };
+        let checks = PathChecks {
+            path,
+            profile,
+            tool_speed: None,
+            tool_path: None,
+        };
+        verify(trajectory, &limits, &checks)
+    }
+
+    #[test]
+    fn a_sample_past_a_position_limit_is_a_violation() {
+        let (mut trajectory, path, profile) = timed();
+        assert_eq!(check(&trajectory, &path, &profile), Ok(()));
+        trajectory.points[3].positions[0] = 1.001;
+        let violation = check(&trajectory, &path, &profile).unwrap_err();
+        assert_eq!(
+            (
+                violation.kind,
+                violation.sample,
+                violation.joint,
+                violation.limit
+            ),
+            (LimitKind::Position, 3, 0, 1.0)
+        );
+    }
+
+    #[test]
+    fn a_continuous_joint_is_not_limited() {
+        let (mut trajectory, path, profile) = timed();
+        trajectory.points[3].positions[1] = 1e6;
+        assert_eq!(check(&trajectory, &path, &profile), Ok(()));
+    }
 }
