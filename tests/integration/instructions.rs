@@ -543,6 +543,41 @@ cases! {
         => Skipped(&[], "green-circle-2 is already in the left box");
     pick_up_and_put_it: "pick up the red hexagon and put it in the left box", NOWHERE
         => Exactly(&[("red-hexagon-1", L)]);
+    do_not_touch: "put the blue squares in the left box, do not touch the red ones", NOWHERE
+        => Exactly(&[("blue-square-1", L), ("blue-square-2", L), ("blue-square-3", L)]);
+    without_touching: "put the squares in the left box without touching the red ones", NOWHERE
+        => Exactly(&[("blue-square-1", L), ("blue-square-2", L), ("blue-square-3", L)]);
+    touch_alone_is_not_a_move: "touch the red square", NOWHERE
+        => Error("no action verb");
+    all_but: "put all but the squares and the hexagons in the left box", NOWHERE
+        => Error("ambiguous");
+    all_but_one_kind: "put everything but the squares in the right box", NOWHERE
+        => Skipped(&[
+            ("red-hexagon-1", R), ("blue-hexagon-1", R), ("yellow-hexagon-1", R),
+            ("green-circle-1", R), ("yellow-triangle-1", R), ("orange-star-1", R),
+            ("green-circle-2", R),
+        ], "white-cube-1 is already in the right box");
+    but_put_is_a_second_move: "put the red squares in the left box but put the blue squares in the right box", NOWHERE
+        => Exactly(&[
+            ("red-square-1", L), ("red-square-2", L),
+            ("blue-square-1", R), ("blue-square-2", R), ("blue-square-3", R),
+        ]);
+    the_others_is_the_rest: "put the circles and the cube in the right box and the others in the left box", NOWHERE
+        => Skipped(&[
+            ("green-circle-1", R), ("green-circle-2", R),
+            ("red-square-1", L), ("red-square-2", L),
+            ("blue-square-1", L), ("blue-square-2", L), ("blue-square-3", L),
+            ("red-hexagon-1", L), ("blue-hexagon-1", L), ("yellow-hexagon-1", L),
+            ("yellow-triangle-1", L), ("orange-star-1", L),
+        ], "every cube is already in the right box");
+    ignore_first: "ignore the red ones and put the squares in the left box", NOWHERE
+        => Exactly(&[("blue-square-1", L), ("blue-square-2", L), ("blue-square-3", L)]);
+    dont_move_first: "don't move the red square, put the squares in the right box", NOWHERE
+        => Exactly(&[("blue-square-1", R), ("blue-square-2", R), ("blue-square-3", R)]);
+    trailing_please_and_sequence_words: "first put the red hexagon in the left box, then the star in the right box, please", NOWHERE
+        => Exactly(&[("red-hexagon-1", L), ("orange-star-1", R)]);
+    except_and_except: "put all squares in the left box except the red one and except the blue one", NOWHERE
+        => Error("also leaves out");
     unknown_word_is_refused: "put the red hexagon in the left box sideways", NOWHERE
         => Error("does not understand \"sideways\"");
 }

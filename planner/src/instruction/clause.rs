@@ -7,9 +7,9 @@
 use std::collections::BTreeSet;
 
 use super::lexicon::{
-    BIG, COLOURS, DEICTIC, EVERYTHING, FILLERS, GENERIC_PLURAL, GENERIC_SINGULAR, GOAL_NOUNS,
-    LEAVE_TAIL, LEAVE_VERBS, NEGATING_PREFIX, PREPOSITIONS, Quantity, REST, SEQUENCE, SHAPES,
-    SMALL, VERBS, is, numeral, ordinal, quantifier,
+    BIG, COLOURS, DEICTIC, EVERYTHING, FILLERS, GENERIC_PLURAL, GENERIC_SINGULAR, GERUNDS,
+    GOAL_NOUNS, LEAVE_TAIL, LEAVE_VERBS, NEGATING_PREFIX, PREPOSITIONS, Quantity, REST, SEQUENCE,
+    SHAPES, SMALL, TOUCH_VERBS, VERBS, is, numeral, ordinal, quantifier,
 };
 use super::tokens::{Tok, Token};
 use crate::error::InstructionError;
@@ -41,7 +41,7 @@ pub(super) struct Description {
     pub plural: bool,
     /// "the rest", "the others": what no other clause takes.
     pub rest: bool,
-    /// "the other one(s)", "the others": the rest of the previous noun.
+    /// "the other one(s)": the rest of the previous noun.
     pub others: bool,
     pub pick: Option<Pick>,
 }
@@ -161,22 +161,25 @@ impl<'a> Parser<'a> {
 
     /// Reads one part (the tokens between two clause breaks).
     pub fn part(&mut self, part: &[Tok], previous: Option<&Description>) -> Option<Part> {
+        // Politeness carries no meaning anywhere ("… in the left box, please").
+        part.iter()
+            .filter(|t| t.is_in(FILLERS))
+            .for_each(|t| self.used[t.at] = true);
         let Some(v) = part
             .iter()
-            .position(|t| t.is_in(VERBS) || t.is_in(LEAVE_VERBS))
+            .position(|t| t.is_in(VERBS) || t.is_in(LEAVE_VERBS) || t.is_in(TOUCH_VERBS))
         else {
             return self.verbless(part, previous);
         };
         let (prefix, body) = part.split_at(v);
         let leave = body[0].is_in(LEAVE_VERBS);
         let negated = prefix.iter().any(|t| t.is_in(NEGATING_PREFIX));
-        if negated && leave {
-            return None; // "don't leave …": left to the guard
+        if (negated && leave) || (!negated && body[0].is_in(TOUCH_VERBS)) {
+            return None; // "don't leave …", "touch …": left to the guard
         }
         for t in prefix {
             let negation = negated && (t.is_in(NEGATING_PREFIX) || t.is_in(&["do", "does"]));
-            let contrast = (negated || leave) && t.is_word("but");
-            if t.is_in(FILLERS) || t.is_in(SEQUENCE) || negation || contrast {
+            if t.is_in(SEQUENCE) || negation || t.is_word("but") {
                 self.take(t);
             }
         }
@@ -210,6 +213,7 @@ impl<'a> Parser<'a> {
             return Some(Part::ExcludePrevious(exclusions, self.text(part)));
         }
         if part.iter().all(|t| t.is_in(FILLERS) || t.is_in(SEQUENCE)) {
+            // "first", "next" standing alone: sequencing, no meaning.
             part.iter().for_each(|t| self.take(t));
             return None;
         }
@@ -452,6 +456,8 @@ impl<'a> Parser<'a> {
         let first = starts.first().map_or(toks.len(), |&(k, _)| k);
         let mut exclusions = Vec::new();
         for (n, &(k, len)) in starts.iter().enumerate() {
+            // "without touching the red ones": the gerund adds nothing.
+            let len = len + usize::from(toks.get(k + len).is_some_and(|t| t.is_in(GERUNDS)));
             toks[k..k + len].iter().for_each(|t| self.used[t.at] = true);
             let end = starts.get(n + 1).map_or(toks.len(), |&(next, _)| next);
             let (_, d) = self.objects(&toks[k + len..end]);
@@ -506,7 +512,7 @@ impl<'a> Parser<'a> {
             } else if is(w, REST) {
                 (d.generic, d.rest) = (true, true);
                 d.plural |= w == "rest" || w == "others";
-                d.others |= w == "other" || w == "others";
+                d.others |= w == "other";
                 adjective = true;
                 true
             } else if let Some(k) = ordinal(w) {
@@ -520,7 +526,7 @@ impl<'a> Parser<'a> {
                     _ => Pick::Pointed,
                 };
                 set_pick(&mut d, p)
-            } else if w == "the" || w == "of" || is(w, FILLERS) {
+            } else if w == "the" || w == "of" {
                 true
             } else if let Some(n) = numeral(w) {
                 count = count.or(Some(quantifier(w).unwrap_or(Quantity::Count(n))));

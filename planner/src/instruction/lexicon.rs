@@ -10,6 +10,11 @@ pub(super) const VERBS: &[&str] = &[
 pub(super) const LEAVE_VERBS: &[&str] = &[
     "leave", "leaving", "keep", "keeping", "skip", "ignore", "avoid",
 ];
+/// Verbs that only make sense negated ("do not touch the red ones"): an
+/// exclusion when negated, not understood otherwise.
+pub(super) const TOUCH_VERBS: &[&str] = &["touch", "disturb", "handle"];
+/// Gerunds after "without" ("without touching the red ones").
+pub(super) const GERUNDS: &[&str] = &["touching", "moving", "disturbing", "taking"];
 /// Words that may close a leave clause: "alone", "where it is", "out of …".
 pub(super) const LEAVE_TAIL: &[&str] = &[
     "alone",

@@ -115,19 +115,22 @@ pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, Instruct
 }
 
 /// The parts of the instruction: split at clause breaks, and before a
-/// "but" that opens an exclusion ("… but leave the red one", "… but do not
-/// move the circles").
+/// "but" that opens a clause ("… but leave the red one", "… but do not
+/// move the circles", "… but put the blue ones …").
 fn parts(tokens: &[Tok]) -> Vec<Vec<Tok>> {
-    let opens_exclusion = |t: Option<&Tok>| {
+    let opens_clause = |t: Option<&Tok>| {
         t.is_some_and(|t| {
-            t.is_in(LEAVE_VERBS) || t.is_in(NEGATING_PREFIX) || t.is_in(&["do", "does"])
+            t.is_in(VERBS)
+                || t.is_in(LEAVE_VERBS)
+                || t.is_in(NEGATING_PREFIX)
+                || t.is_in(&["do", "does"])
         })
     };
     let mut parts = Vec::new();
     for part in tokens.split(|t| t.token == Token::Break) {
         let mut start = 0;
         for k in 1..part.len() {
-            if part[k].is_word("but") && opens_exclusion(part.get(k + 1)) {
+            if part[k].is_word("but") && opens_clause(part.get(k + 1)) {
                 parts.push(part[start..k].to_vec());
                 start = k;
             }

@@ -81,10 +81,12 @@ pub(super) fn resolve(
             .filter(|(_, g)| g.is_none_or(|g| g == goal))
             .map(|&(i, _)| i)
             .collect();
-        let (chosen, notes) = choose(s, c, goal, &excluded, &taken, &mut rng)?;
-        taken.extend(chosen.iter().copied());
-        picks[k] = chosen.into_iter().map(|i| (i, goal)).collect();
-        skipped[k] = notes;
+        let chosen = choose(s, c, goal, &excluded, &taken, &mut rng)?;
+        // What a clause skips because it is already in place is settled:
+        // "the rest" does not take it elsewhere.
+        taken.extend(chosen.moved.iter().chain(&chosen.settled).copied());
+        picks[k] = chosen.moved.into_iter().map(|i| (i, goal)).collect();
+        skipped[k] = chosen.notes;
     }
     Ok(Resolved {
         picks: picks.concat(),
@@ -186,6 +188,15 @@ fn nearest_to_pointing(
         .expect("matches is not empty"))
 }
 
+/// What one clause does.
+#[derive(Default)]
+struct Chosen {
+    moved: Vec<usize>,
+    /// Objects it names that already rest in its goal.
+    settled: Vec<usize>,
+    notes: Vec<String>,
+}
+
 /// The objects one clause moves, and the notes for those it skips.
 fn choose(
     s: &Scenario,
@@ -194,7 +205,7 @@ fn choose(
     excluded: &BTreeSet<usize>,
     taken: &BTreeSet<usize>,
     rng: &mut ChaCha8Rng,
-) -> Result<(Vec<usize>, Vec<String>), InstructionError> {
+) -> Result<Chosen, InstructionError> {
     let d = &clause.description;
     let goal_name = &s.goals[goal].name;
     let matches = select(s, d, clause.source)?;
@@ -215,12 +226,12 @@ fn choose(
     let free: Vec<usize> = kept.into_iter().filter(|i| !taken.contains(i)).collect();
     if free.is_empty() {
         return match d.rest {
-            true => Ok((
-                Vec::new(),
-                vec![format!("nothing is left for \"{}\"", clause.text)],
-            )),
+            true => Ok(Chosen {
+                notes: vec![format!("nothing is left for \"{}\"", clause.text)],
+                ..Chosen::default()
+            }),
             false => fail(format!(
-                "every {} it names is already moved by an earlier part of the instruction",
+                "every {} it names is already taken by an earlier part of the instruction",
                 d.text(false)
             )),
         };
@@ -250,7 +261,11 @@ fn choose(
         ));
     }
     if matches!(quantity, Quantity::All | Quantity::Both) {
-        return Ok((candidates, in_goal.iter().map(note).collect()));
+        return Ok(Chosen {
+            moved: candidates,
+            notes: in_goal.iter().map(note).collect(),
+            settled: in_goal,
+        });
     }
     if candidates.is_empty() {
         let skipped = match d.named.is_empty() && d.pick.is_none() {
@@ -260,10 +275,19 @@ fn choose(
             )],
             false => in_goal.iter().map(note).collect(),
         };
-        return Ok((Vec::new(), skipped));
+        return Ok(Chosen {
+            notes: skipped,
+            settled: in_goal,
+            ..Chosen::default()
+        });
     }
     let count = match quantity {
-        Quantity::One if clause.quantity.is_none() => return Ok((vec![candidates[0]], Vec::new())),
+        Quantity::One if clause.quantity.is_none() => {
+            return Ok(Chosen {
+                moved: vec![candidates[0]],
+                ..Chosen::default()
+            });
+        }
         Quantity::Count(n) => n,
         Quantity::Some => rng.random_range(1..=candidates.len()),
         _ => 1,
@@ -281,5 +305,8 @@ fn choose(
     }
     let mut picked: Vec<usize> = candidates.choose_multiple(rng, count).copied().collect();
     picked.sort_unstable();
-    Ok((picked, Vec::new()))
+    Ok(Chosen {
+        moved: picked,
+        ..Chosen::default()
+    })
 }
