@@ -179,7 +179,9 @@ impl<'a> Parser<'a> {
         }
         for t in prefix {
             let negation = negated && (t.is_in(NEGATING_PREFIX) || t.is_in(&["do", "does"]));
-            if t.is_in(SEQUENCE) || negation || t.is_word("but") {
+            // "… but put": a contrast with what came before, if anything did.
+            let contrast = t.is_word("but") && t.at > 0;
+            if t.is_in(SEQUENCE) || negation || contrast {
                 self.take(t);
             }
         }
