@@ -876,6 +876,27 @@ proptest! {
         }
     }
 
+    /// A spatial relation in place of the preposition, before a goal or an
+    /// object, is refused as one: never read as "in".
+    #[test]
+    fn spatial_relation_is_refused_never_read_as_in(
+        base in instruction(),
+        relation in prop::sample::select(vec![
+            "next to", "beside", "behind", "on top of", "near", "under", "in front of",
+            "to the left of", "right of", "close to", "underneath", "above", "against",
+        ]),
+        target in prop::sample::select(vec!["the left box", "the right box", "the orange star"]),
+    ) {
+        let objects = base.split(" in the ").next().and_then(|b| b.split(" into the ").next())
+            .and_then(|b| b.split(" to the ").next()).unwrap_or(&base);
+        let text = format!("{objects} {relation} {target}");
+        let got = interpret(&scene(&text, NOWHERE), 3);
+        prop_assert!(
+            got.as_ref().is_err_and(|e| e.to_string().contains("spatial relation")),
+            "{text:?}: {got:?}"
+        );
+    }
+
     /// A whole-instruction negation is always refused.
     #[test]
     fn negated_instruction_is_always_refused(

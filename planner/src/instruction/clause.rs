@@ -8,8 +8,8 @@ use std::collections::BTreeSet;
 
 use super::lexicon::{
     BIG, COLOURS, DEICTIC, EVERYTHING, FILLERS, GENERIC_PLURAL, GENERIC_SINGULAR, GERUNDS,
-    GOAL_NOUNS, LEAVE_TAIL, LEAVE_VERBS, NEGATING_PREFIX, PREPOSITIONS, Quantity, REST, SEQUENCE,
-    SHAPES, SMALL, TOUCH_VERBS, VERBS, is, numeral, ordinal, quantifier,
+    GOAL_NOUNS, LEAVE_TAIL, LEAVE_VERBS, NEGATING_PREFIX, NEGATIONS, PREPOSITIONS, Quantity,
+    RELATIONS, REST, SEQUENCE, SHAPES, SMALL, TOUCH_VERBS, VERBS, is, numeral, ordinal, quantifier,
 };
 use super::tokens::{Tok, Token};
 use crate::error::InstructionError;
@@ -407,7 +407,11 @@ impl<'a> Parser<'a> {
             .iter()
             .filter(|t| !t.is_in(&["the", "a", "an"]))
             .collect();
-        if name.is_empty() {
+        // "on top of the star": a relation, not a goal name; the guard says so.
+        let relation = name
+            .iter()
+            .any(|t| t.is_in(RELATIONS) || t.is_in(NEGATIONS));
+        if name.is_empty() || relation {
             return (toks.len(), None, toks.len());
         }
         toks[p..end].iter().for_each(|t| self.used[t.at] = true);
