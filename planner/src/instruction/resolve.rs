@@ -174,7 +174,7 @@ fn nearest_to_pointing(
 ) -> Result<usize, InstructionError> {
     let Some(p) = s.pointing else {
         return fail(format!(
-            "it says \"this\" or \"that\" {} but no pointing hand was seen",
+            "it points at a {} (\"this\" / \"that\") but no pointing hand was seen",
             d.text(false)
         ));
     };
