@@ -207,9 +207,15 @@ fn seen_gripper(scenario: &Scenario, robot: &RobotModel, joints: &[f64]) -> [f64
 }
 
 /// The arm whose tool is nearest `point` in the table plane, and that tool's
-/// table-plane position (x, y), base frame.
+/// table-plane position (x, y), base frame. Arms out of park come first: a
+/// parked tool is not where the robot works.
 fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (&'a str, [f64; 2]) {
-    let tools = robot.arms().iter().map(|arm| {
+    let working = robot.arms().iter().any(|arm| !is_parked(arm, joints));
+    let candidates = robot
+        .arms()
+        .iter()
+        .filter(|arm| !working || !is_parked(arm, joints));
+    let tools = candidates.map(|arm| {
         let p = arm.fk(&arm.extract(joints)).translation.vector;
         (arm.name.as_str(), [p.x, p.y])
     });
