@@ -280,7 +280,8 @@ pub fn grasp_height(
         .max(h + margin + settings.palm_clearance - gripper.palm_above_tcp);
     let tips = grasp - gripper.tips_below_tcp;
     let depth = h - tips;
-    if tips <= h / 2.0 || depth >= settings.min_grip_depth {
+    // 1 nm: a grip of exactly `min_grip_depth` passes despite rounding.
+    if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
         return Ok(grasp);
     }
     Err(format!(

@@ -153,3 +153,71 @@ fn gap(s: &Scenario, half: [f64; 2], p: [f64; 2], j: usize) -> f64 {
     let dv = ((p[1] - c[1]).abs() - half[1] - o.bbox.l / 2.0).max(0.0) * mv;
     du.hypot(dv)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{PixelBox, default_scenario};
+
+    /// The default scene (0.025 m squares, 0.03 m tall, in a 0.10 m box)
+    /// with the left box (index 0) at `bbox`.
+    fn scene(bbox: [f64; 4]) -> Scenario {
+        let mut s = default_scenario().unwrap();
+        s.goals[0].bbox = PixelBox::from(bbox);
+        s
+    }
+
+    fn put(s: &mut Scenario, object: usize, at: [f64; 2]) {
+        s.objects[object].bbox = s.objects[object].bbox.centred_at(at);
+    }
+
+    /// Gap (m) between the plain footprints of objects `a` and `b`.
+    fn footprint_gap(s: &Scenario, a: usize, b: usize) -> f64 {
+        let half = footprint(s, a, None);
+        gap(s, half, s.objects[a].bbox.centre(), b)
+    }
+
+    #[test]
+    fn release_spots_fill_rows_from_one_corner_inside_the_inner_walls() {
+        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
+        let [mu, mv] = s.metres_per_pixel();
+        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        // Top-left corner: wall + clearance + half the object from each side.
+        assert!((first[0] - (20.0 + (GOAL_WALL + WALL_CLEARANCE) / mu + 20.0)).abs() < 1e-9);
+        assert!((first[1] - (300.0 + (GOAL_WALL + WALL_CLEARANCE) / mv + 20.0)).abs() < 1e-9);
+        put(&mut s, 0, first);
+        let second = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 1, second);
+        assert_eq!(second[1], first[1], "same row");
+        assert!(footprint_gap(&s, 1, 0) >= WALL_CLEARANCE);
+    }
+
+    #[test]
+    fn full_goal_and_too_large_object_have_their_reasons() {
+        let mut s = scene([20.0, 300.0, 80.0, 80.0]);
+        put(&mut s, 0, [60.0, 340.0]);
+        assert_eq!(release_spot(&s, 1, 0, None, |_| true), Err(NoSpot::Full));
+        assert_eq!(NoSpot::Full.reason(&s, 1, 0), "left box is full");
+        let small = scene([20.0, 300.0, 60.0, 60.0]);
+        assert_eq!(
+            release_spot(&small, 1, 0, None, |_| true),
+            Err(NoSpot::TooLarge)
+        );
+        let roomy = scene([20.0, 300.0, 160.0, 160.0]);
+        assert_eq!(
+            release_spot(&roomy, 1, 0, None, |_| false),
+            Err(NoSpot::Covered)
+        );
+    }
+
+    #[test]
+    fn pieces_as_tall_as_the_wall_keep_their_margin_from_the_open_fingers() {
+        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
+        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 0, first);
+        s.objects[0].height = s.goals[0].height;
+        let spot = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 1, spot);
+        assert!(footprint_gap(&s, 1, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
+    }
+}
