@@ -71,8 +71,14 @@ pub struct PathOptions {
     /// Object held by that arm's gripper; the scene obstacle of the same name
     /// is ignored while it is held.
     pub attached: Option<Attachment>,
-    /// Obstacles to ignore (e.g. the target while the fingers close on it).
+    /// Obstacles to ignore for every body (e.g. the target once it has been
+    /// put down elsewhere).
     pub ignore: Vec<String>,
+    /// Pairs `(robot body, obstacle)` left out of the check, every other pair
+    /// of that body or obstacle is still checked: e.g. the fingers against the
+    /// target they close on, while the palm and the links keep its margin.
+    /// Bodies are named like [`Collision::body`]; an unknown body is an error.
+    pub exempt: Vec<(String, String)>,
     pub settings: CheckSettings,
 }
 
@@ -172,7 +178,7 @@ impl RobotGeometry {
         opts: &PathOptions,
     ) -> Result<PathVerdict, CollisionError> {
         let mut p = self.prepare_joint_path(path, opts)?;
-        Ok(p.run(scene, opts))
+        p.run(scene, opts)
     }
 
     pub(crate) fn prepare_joint_path<'a>(
@@ -310,7 +316,7 @@ impl RobotGeometry {
         opts: &PathOptions,
     ) -> Result<PathVerdict, CollisionError> {
         let mut p = self.prepare_tool_path(waypoints, opts)?;
-        Ok(p.run(scene, opts))
+        p.run(scene, opts)
     }
 
     pub(crate) fn prepare_tool_path<'a>(
@@ -330,17 +336,13 @@ impl RobotGeometry {
             }
         }
         let arm = self.arm_of(opts)?;
-        let tool_link = self.model.link_index(&arm.tool_link)?;
-        let home = self.model.link_poses(self.model.home())?;
-        let pose_tool_base = home[tool_link].inverse();
         let mut local: Vec<Pose> = Vec::new();
         let mut shapes: Vec<SharedShape> = Vec::new();
         let mut names: Vec<String> = Vec::new();
-        for b in self.tool_rigid_bodies(tool_link) {
-            let body = &self.bodies[b];
-            local.push(pose_tool_base * home[body.link] * body.pose_link_shape);
-            shapes.push(body.shape.clone());
-            names.push(body.name.clone());
+        for (name, pose, shape) in self.tool_bodies(arm)? {
+            local.push(pose);
+            shapes.push(shape);
+            names.push(name);
         }
         if let Some(a) = &opts.attached {
             a.validate()?;
@@ -391,6 +393,43 @@ impl RobotGeometry {
         })
     }
 
+    /// The colliders rigid with `arm`'s tool frame: name, pose in the tool
+    /// frame, shape.
+    fn tool_bodies(
+        &self,
+        arm: &afford_kinematics::Arm,
+    ) -> Result<Vec<(String, Pose, SharedShape)>, CollisionError> {
+        let tool_link = self.model.link_index(&arm.tool_link)?;
+        let home = self.model.link_poses(self.model.home())?;
+        let pose_tool_base = home[tool_link].inverse();
+        Ok(self
+            .tool_rigid_bodies(tool_link)
+            .into_iter()
+            .map(|b| {
+                let body = &self.bodies[b];
+                let pose = pose_tool_base * home[body.link] * body.pose_link_shape;
+                (body.name.clone(), pose, body.shape.clone())
+            })
+            .collect())
+    }
+
+    /// How far each collider rigid with `arm`'s tool frame extends along
+    /// the tool's z axis (the approach direction: down when the tool points
+    /// down): `(body name, [lowest, highest] z)` of its bounding box in the
+    /// tool frame, metres from the tool origin (the TCP). With the tool
+    /// pointing down, `highest` is how far the body reaches below the TCP.
+    pub fn tool_body_extents(&self, arm: &str) -> Result<Vec<(String, [f64; 2])>, CollisionError> {
+        let arm = self.model.arm(arm)?;
+        Ok(self
+            .tool_bodies(arm)?
+            .into_iter()
+            .map(|(name, pose, shape)| {
+                let aabb = shape.compute_aabb(&to_parry(&pose));
+                (name, [aabb.mins.z, aabb.maxs.z])
+            })
+            .collect())
+    }
+
     fn arm_of(&self, opts: &PathOptions) -> Result<&afford_kinematics::Arm, CollisionError> {
         match &opts.arm {
             Some(name) => Ok(self.model.arm(name)?),
@@ -424,16 +463,38 @@ impl RobotGeometry {
     }
 }
 
-/// Obstacles a check sees: all but the ignored ones and the held object.
-pub(crate) fn active(scene: &Scene, opts: &PathOptions) -> Vec<bool> {
-    scene
-        .obstacles
+/// Which obstacles each moving body sees, `[body][obstacle]`: all but the
+/// ignored ones, the held object and the body's exempt pairs. `Err` names
+/// the first `exempt` entry whose body is not one of `names`.
+pub(crate) fn active(
+    scene: &Scene,
+    opts: &PathOptions,
+    names: &[String],
+) -> Result<Vec<Vec<bool>>, CollisionError> {
+    if let Some(k) = opts
+        .exempt
         .iter()
-        .map(|o| {
-            !opts.ignore.contains(&o.name)
-                && opts.attached.as_ref().is_none_or(|a| a.name != o.name)
+        .position(|(body, _)| !names.contains(body))
+    {
+        return Err(path_err(
+            format!("exempt[{k}]"),
+            format!("'{}' names no robot body", opts.exempt[k].0),
+        ));
+    }
+    Ok(names
+        .iter()
+        .map(|body| {
+            scene
+                .obstacles
+                .iter()
+                .map(|o| {
+                    !opts.ignore.contains(&o.name)
+                        && opts.attached.as_ref().is_none_or(|a| a.name != o.name)
+                        && !opts.exempt.iter().any(|(b, x)| b == body && *x == o.name)
+                })
+                .collect()
         })
-        .collect()
+        .collect())
 }
 
 /// A path turned into moving bodies and the pairs to check.
@@ -445,8 +506,12 @@ pub(crate) struct Prepared<S> {
 }
 
 impl<S: Sweep> Prepared<S> {
-    pub(crate) fn run(&mut self, scene: &Scene, opts: &PathOptions) -> PathVerdict {
-        let active = active(scene, opts);
+    pub(crate) fn run(
+        &mut self,
+        scene: &Scene,
+        opts: &PathOptions,
+    ) -> Result<PathVerdict, CollisionError> {
+        let active = active(scene, opts, &self.names)?;
         let b = Bodies {
             shapes: &self.shapes,
             names: &self.names,
@@ -455,7 +520,7 @@ impl<S: Sweep> Prepared<S> {
             active: &active,
         };
         let (collisions, stats) = sweep::run(&mut self.sweep, &b, &opts.settings);
-        PathVerdict { collisions, stats }
+        Ok(PathVerdict { collisions, stats })
     }
 }
 

@@ -71,7 +71,7 @@ pub fn dense_joint_path(
         robot.check_config(q, &format!("joints[{i}]"))?;
     }
     let mut p = robot.prepare_joint_path(path, opts)?;
-    Ok(sample(&mut p, scene, opts, dense))
+    sample(&mut p, scene, opts, dense)
 }
 
 /// Dense reference for a tool path.
@@ -83,7 +83,7 @@ pub fn dense_tool_path(
     dense: &DenseSettings,
 ) -> Result<DenseResult, CollisionError> {
     let mut p = robot.prepare_tool_path(waypoints, opts)?;
-    Ok(sample(&mut p, scene, opts, dense))
+    sample(&mut p, scene, opts, dense)
 }
 
 fn sample<S: Sweep>(
@@ -91,8 +91,8 @@ fn sample<S: Sweep>(
     scene: &Scene,
     opts: &PathOptions,
     dense: &DenseSettings,
-) -> DenseResult {
-    let active = active(scene, opts);
+) -> Result<DenseResult, CollisionError> {
+    let active = active(scene, opts, &p.names)?;
     let mut out = DenseResult {
         first_hit: None,
         min_slack: f64::INFINITY,
@@ -135,7 +135,7 @@ fn sample<S: Sweep>(
                 Partner::Scene => {
                     let aabb = s1.compute_aabb(p1);
                     for part in &scene.parts {
-                        if !active[part.obstacle] {
+                        if !active[g.body][part.obstacle] {
                             continue;
                         }
                         let ob = &scene.obstacles[part.obstacle];
@@ -152,5 +152,5 @@ fn sample<S: Sweep>(
             break;
         }
     }
-    out
+    Ok(out)
 }

@@ -60,8 +60,8 @@ pub(crate) struct Bodies<'a> {
     pub names: &'a [String],
     pub groups: &'a [Group],
     pub scene: &'a Scene,
-    /// Per obstacle: false when ignored (grasped target, explicitly ignored).
-    pub active: &'a [bool],
+    /// Per body and obstacle: false when ignored (held, ignored, exempt pair).
+    pub active: &'a [Vec<bool>],
 }
 
 /// The closest partner of a group at one instant.
@@ -176,7 +176,7 @@ fn nearest(
             // increasing bound and stop once the bound cannot beat the best.
             let mut cand: Vec<(f64, usize)> = Vec::with_capacity(b.scene.parts.len());
             for (i, part) in b.scene.parts.iter().enumerate() {
-                if only.is_some_and(|o| o != i) || !b.active[part.obstacle] {
+                if only.is_some_and(|o| o != i) || !b.active[group.body][part.obstacle] {
                     continue;
                 }
                 let margin = b.scene.obstacles[part.obstacle].margin;

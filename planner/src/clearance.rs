@@ -5,16 +5,19 @@
 //! sampled trajectory, the independent check before anything leaves afford.
 //!
 //! The path is checked in three parts, split where the gripper closes and
-//! opens: up to the grasp the target is ignored (the fingers close on it);
-//! while holding it rides with the gripper as an attachment; after the
-//! release it stays where it was put, under the open gripper, and is not
-//! part of the scene. The held box's bottom [`SUPPORT_GAP`] is left out of
-//! the check: it rests on the table when the fingers close.
+//! opens: up to the grasp the target is an obstacle with its margin for
+//! every body but the fingers' grasp region ([`grasp_region`]), so the palm
+//! and the links never come near it; while holding it rides with the
+//! gripper as an attachment; after the release it stays where it was put,
+//! under the open gripper, and is left out. The held box's bottom
+//! [`SUPPORT_GAP`] is left out of the check: it rests on the table when the
+//! fingers close.
 
 use afford_collision::{Attachment, BoxKind, Collision, PathOptions, RobotGeometry, Scene};
 use afford_kinematics::RobotModel;
 
 use crate::geometry::{scene_box, scene_spec};
+use crate::lift::GripperReach;
 use crate::scenario::Scenario;
 
 /// Height of the held object's bottom slice that may touch its support, m.
@@ -72,12 +75,16 @@ pub fn check_motion(
         arm: Some(m.arm.to_string()),
         ..PathOptions::default()
     };
+    let fingers = grasp_region(robot, geometry, m.arm)?;
     let parts = [
         (
             0,
             m.grasp_at,
             PathOptions {
-                ignore: vec![object.name.clone()],
+                exempt: fingers
+                    .into_iter()
+                    .map(|f| (f, object.name.clone()))
+                    .collect(),
                 ..options.clone()
             },
         ),
@@ -89,7 +96,14 @@ pub fn check_motion(
                 ..options.clone()
             },
         ),
-        (m.release_at, m.path.len() - 1, options),
+        (
+            m.release_at,
+            m.path.len() - 1,
+            PathOptions {
+                ignore: vec![object.name.clone()],
+                ..options
+            },
+        ),
     ];
     for (from, to, opts) in parts {
         let verdict = geometry
@@ -103,4 +117,53 @@ pub fn check_motion(
         }
     }
     Ok(None)
+}
+
+/// The colliders of `arm`'s gripper that may touch the target before they
+/// close on it: the robot description's `gripper.fingers` rigid with the
+/// arm's tool frame, or every collider rigid with it when the description
+/// names none (a user robot without the field).
+pub fn grasp_region(
+    robot: &RobotModel,
+    geometry: &RobotGeometry,
+    arm: &str,
+) -> Result<Vec<String>, String> {
+    let tool: Vec<String> = geometry
+        .tool_body_extents(arm)
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .map(|(name, _)| name)
+        .collect();
+    let fingers: Vec<String> = tool
+        .iter()
+        .filter(|b| robot.gripper().fingers.contains(b))
+        .cloned()
+        .collect();
+    Ok(if fingers.is_empty() { tool } else { fingers })
+}
+
+/// The gripper's reach along the approach axis over every arm (the lowest
+/// palm, the farthest fingertips), measured on the colliders rigid with
+/// each arm's tool frame; the opening and finger length from the robot
+/// description.
+pub fn gripper_reach(robot: &RobotModel, geometry: &RobotGeometry) -> Result<GripperReach, String> {
+    let mut reach = GripperReach {
+        palm_above_tcp: f64::INFINITY,
+        tips_below_tcp: 0.0,
+        max_opening: robot.gripper().max_opening,
+        finger_length: robot.gripper().finger_length,
+    };
+    for arm in robot.arms() {
+        let region = grasp_region(robot, geometry, &arm.name)?;
+        let extents = geometry
+            .tool_body_extents(&arm.name)
+            .map_err(|e| e.to_string())?;
+        for (name, [_, below]) in extents {
+            match region.contains(&name) {
+                true => reach.tips_below_tcp = reach.tips_below_tcp.max(below),
+                false => reach.palm_above_tcp = reach.palm_above_tcp.min(-below),
+            }
+        }
+    }
+    Ok(reach)
 }

@@ -7,31 +7,27 @@
 //! sensitive), hands `hand_margin`, goals `obstacle_margin` — except the
 //! sub-goal's own goal and the table, which the gripper and the held object
 //! must enter or come close to and so get none (touching is still a
-//! collision). The sub-goal's target is left out: it is what the gripper
-//! grasps, and it rides with the gripper once held (see the collision
-//! crate's `Attachment`).
+//! collision). The sub-goal's target is in the scene too, with
+//! `obstacle_margin` (it is meant to be touched, so never the sensitive
+//! one): the check exempts only the fingers from it until they close on it,
+//! then it rides with the gripper (see the collision crate's `Attachment`).
 
 use afford_collision::{BoxKind, SceneBox, SceneSpec, TableSpec};
 
-use crate::scenario::{PixelBox, Scenario};
+use crate::scenario::{Object, PixelBox, Scenario};
 
 /// The collision scene for moving `scenario.objects[target]` into
-/// `scenario.goals[goal]`.
+/// `scenario.goals[goal]`: every object (the target included, under its own
+/// name), every goal, every hand, and the table.
 pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec {
     let margins = &scenario.safety;
-    let objects = scenario
-        .objects
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != target)
-        .map(|(_, o)| {
-            let margin = if scenario.is_sensitive(o) {
-                margins.sensitive_margin
-            } else {
-                margins.obstacle_margin
-            };
-            scene_box(scenario, &o.name, BoxKind::Object, o.bbox, o.height, margin)
-        });
+    let objects = scenario.objects.iter().enumerate().map(|(i, o)| {
+        let margin = match i == target {
+            true => margins.obstacle_margin,
+            false => object_margin(scenario, o),
+        };
+        scene_box(scenario, &o.name, BoxKind::Object, o.bbox, o.height, margin)
+    });
     let goals = scenario.goals.iter().enumerate().map(|(i, g)| {
         let margin = if i == goal {
             0.0
@@ -54,6 +50,15 @@ pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec 
         table_z: scenario.camera.table_z,
         table: Some(table(scenario)),
         boxes: objects.chain(goals).chain(hands).collect(),
+    }
+}
+
+/// An object's safety margin, m: `sensitive_margin` when it is sensitive,
+/// else `obstacle_margin`.
+pub fn object_margin(s: &Scenario, o: &Object) -> f64 {
+    match s.is_sensitive(o) {
+        true => s.safety.sensitive_margin,
+        false => s.safety.obstacle_margin,
     }
 }
 

@@ -18,6 +18,7 @@
 //!   box that is an obstacle for the next sub-goal), that connected obstacle
 //!   region is cleared: the gripper is above it and must be able to leave.
 
+use crate::place::{NoSpot, release_spot};
 use crate::scenario::{PixelBox, Scenario};
 
 /// The semantic code of a cell, with the paper's numeric values.
@@ -68,9 +69,12 @@ pub struct StateGrid {
     pub start: Cell,
     /// The target's cell.
     pub target: Cell,
-    /// Where the GOAL action carries the object: the goal cell nearest the
-    /// goal box's centre. `None` when perimeters cover the whole goal.
+    /// Where the GOAL action carries the object: the goal cell under its
+    /// resting spot. `None` when no spot is left.
     pub drop: Option<Cell>,
+    /// Pixel (u, v) where the object is released and comes to rest, inside
+    /// the drop cell ([`crate::place`]), or why no spot is left.
+    pub release: Result<[f64; 2], NoSpot>,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -84,8 +88,16 @@ pub struct GridRequest {
 
 impl StateGrid {
     /// Builds the grid for moving `scenario.objects[req.object]` into
-    /// `scenario.goals[req.goal]` with the gripper at `req.gripper`.
+    /// `scenario.goals[req.goal]` with the gripper at `req.gripper`; the
+    /// resting spot leaves room for the object only ([`Self::build_placing`]).
     pub fn build(scenario: &Scenario, req: GridRequest) -> Self {
+        Self::build_placing(scenario, req, None)
+    }
+
+    /// [`Self::build`] with the resting spot chosen so the open fingers
+    /// (`opening`, m, across the grasp axis) also keep the pieces already in
+    /// the goal at their margins.
+    pub fn build_placing(scenario: &Scenario, req: GridRequest, opening: Option<f64>) -> Self {
         let target_box = scenario.objects[req.object].bbox;
         let cell_size = [target_box.w, target_box.l];
         let image = [scenario.camera.width as f64, scenario.camera.height as f64];
@@ -104,13 +116,17 @@ impl StateGrid {
             start: (0, 0),
             target: (0, 0),
             drop: None,
+            release: Err(NoSpot::Covered),
         };
         grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
         grid.start = grid.cell_at(req.gripper);
         grid.target = grid.cell_at(target_box.centre());
         grid.paint_scene(scenario, req);
         grid.clear_escape(grid.start);
-        grid.drop = grid.nearest_goal_cell(scenario.goals[req.goal].bbox.centre());
+        grid.release = release_spot(scenario, req.object, req.goal, opening, |p| {
+            grid.code(grid.cell_at(p)) == CellCode::Goal
+        });
+        grid.drop = grid.release.ok().map(|p| grid.cell_at(p));
         grid
     }
 
@@ -254,7 +270,7 @@ impl StateGrid {
             .collect()
     }
 
-    /// The goal cell nearest pixel `p` (ties: lowest index).
+    /// The goal cell nearest pixel `p` (ties: lowest index); test grids only.
     fn nearest_goal_cell(&self, p: [f64; 2]) -> Option<Cell> {
         (0..self.len())
             .map(|i| self.cell(i))
@@ -284,6 +300,7 @@ impl StateGrid {
             start,
             target: (target / cols, target % cols),
             drop: None,
+            release: Err(NoSpot::Covered),
         };
         let goals: Vec<[f64; 2]> = (0..grid.len())
             .filter(|&i| grid.codes[i] == CellCode::Goal)
@@ -296,6 +313,7 @@ impl StateGrid {
                 goals.iter().map(|p| p[1]).sum::<f64>() / n,
             ];
             grid.drop = grid.nearest_goal_cell(centroid);
+            grid.release = grid.drop.map(|c| grid.centre(c)).ok_or(NoSpot::Covered);
         }
         Some(grid)
     }

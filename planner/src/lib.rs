@@ -14,7 +14,7 @@
 //! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`oracle`] | — (BFS, for measurement) |
 //! | the robot's state at t = 0 | [`start`] | — |
-//! | lifting to 3-D | [`lift`], [`smooth`] | spline interpolation, Alg. 3 |
+//! | lifting to 3-D, placement | [`lift`], [`smooth`], [`place`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
 //! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
 //! | time-parameterisation | [`timing`], [`trajectory`] (Clarabel) | — |
@@ -40,6 +40,7 @@ pub mod instruction;
 pub mod lift;
 pub mod motion;
 pub mod oracle;
+pub mod place;
 pub mod plan;
 pub mod scenario;
 pub mod smooth;

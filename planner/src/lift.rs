@@ -10,20 +10,30 @@
 //!
 //! Heights (metres above the table top, TCP = the grasp point):
 //! - grasp: half the object's height (the fingers close on its middle), but
-//!   no lower than `min_grasp_height`, which keeps the fingertips (15 mm
-//!   beyond the iiwa's TCP) off the table;
+//!   no lower than `min_grasp_height` and the fingertips `tip_clearance` off
+//!   the table, and high enough that every tool collider outside the
+//!   fingers' grasp region (the palm) stays `obstacle_margin` (plus
+//!   `palm_clearance`) above its top ([`GripperReach`], measured on the robot's colliders). The
+//!   sub-goal is refused, naming the object's height and the finger length,
+//!   when the fingertips then reach neither the object's middle nor
+//!   `min_grip_depth` below its top;
 //! - approach: grasp + `approach_clearance`;
 //! - carry: tallest thing on the table (objects, goal walls, hands) + the
 //!   held object's height + `carry_clearance`, so the held object's bottom
 //!   clears everything by at least `carry_clearance`;
 //! - release: the object's bottom `release_clearance` above the box's wall
-//!   top. DROP opens the gripper over the box, as in the paper: the fingers
-//!   never enter it, so a box narrower than the open gripper still works.
+//!   top, exactly over its resting spot ([`crate::place`]). DROP opens the
+//!   gripper over the box, as in the paper: the fingers never enter it, so a
+//!   box narrower than the open gripper still works.
+//!
+//! Opening: the fingers close across the object's narrower side (metres);
+//! that width plus `opening_clearance` must not exceed the gripper's
+//! `max_opening`, else the sub-goal is refused naming both widths.
 
 use serde::{Deserialize, Serialize};
 
 use crate::grid::Cell;
-use crate::scenario::Scenario;
+use crate::scenario::{Object, Scenario};
 use crate::smooth::smooth_path;
 use crate::task::{Action, GridTask};
 
@@ -42,6 +52,16 @@ pub struct LiftSettings {
     /// Longest straight step between consecutive waypoints; longer segments
     /// (the vertical moves, the carry over the wall) are cut into equal steps.
     pub max_step: f64,
+    /// Lowest gap between the fingertips and the table at the grasp.
+    pub tip_clearance: f64,
+    /// Gap kept between the palm and the target's safety perimeter at the
+    /// grasp (above the collision check's 0.1 mm tolerance).
+    pub palm_clearance: f64,
+    /// Shortest acceptable grip: how far below the object's top the
+    /// fingertips must reach when they cannot reach its middle.
+    pub min_grip_depth: f64,
+    /// Total free play the open fingers need around the object (both sides).
+    pub opening_clearance: f64,
 }
 
 impl Default for LiftSettings {
@@ -52,8 +72,28 @@ impl Default for LiftSettings {
             release_clearance: 0.01,
             min_grasp_height: 0.02,
             max_step: 0.01,
+            tip_clearance: 0.005,
+            palm_clearance: 0.003,
+            min_grip_depth: 0.01,
+            opening_clearance: 0.01,
         }
     }
+}
+
+/// The gripper as lifting sees it, measured with the tool pointing down:
+/// metres along the tool's approach axis, over every arm (the lowest palm,
+/// the farthest fingertips).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GripperReach {
+    /// Height above the TCP of the lowest point of any tool collider
+    /// outside the grasp region (negative: it reaches below the TCP).
+    pub palm_above_tcp: f64,
+    /// How far the grasp region's colliders reach below the TCP.
+    pub tips_below_tcp: f64,
+    /// The robot description's `gripper.max_opening`.
+    pub max_opening: f64,
+    /// The robot description's `gripper.finger_length`.
+    pub finger_length: f64,
 }
 
 /// What the robot is doing on the way to a waypoint.
@@ -124,7 +164,9 @@ impl LiftedMotion {
 
 /// Lifts a solved grid plan. `object` and `goal` index the scenario; `cells`
 /// is the plan's visited cells ([`crate::LearnedPlan::cells`]) and `actions`
-/// its actions.
+/// its actions. `Err` is why the gripper cannot take the object (too wide
+/// for its opening, too tall for a grip that keeps the palm clear).
+#[allow(clippy::too_many_arguments)]
 pub fn lift(
     scenario: &Scenario,
     task: &GridTask,
@@ -132,14 +174,14 @@ pub fn lift(
     goal: usize,
     actions: &[Action],
     cells: &[Cell],
+    gripper: &GripperReach,
     settings: &LiftSettings,
-) -> LiftedMotion {
+) -> Result<LiftedMotion, String> {
     let grid = &task.grid;
     let held = &scenario.objects[object];
     let table = scenario.camera.table_z;
     let carry_height = carry_height(scenario, object, settings);
-    let grasp = (held.height / 2.0).max(settings.min_grasp_height);
-    let yaw = grasp_yaw(scenario, held.bbox.w, held.bbox.l);
+    let (yaw, grasp) = grasp_pose(scenario, held, gripper, settings)?;
     let grasp_at = actions
         .iter()
         .position(|&a| a == Action::Grasp)
@@ -192,7 +234,7 @@ pub fn lift(
             true,
         ));
     }
-    let drop_px = grid.centre(drop);
+    let drop_px = grid.release.unwrap_or_else(|_| grid.centre(drop));
     let goal_wall = scenario.goals[goal].height;
     out.push(point(drop_px, carry_height, Phase::OverWall, true));
     out.push(point(
@@ -202,10 +244,53 @@ pub fn lift(
         true,
     ));
     out.push(point(drop_px, carry_height, Phase::Retreat, false));
-    LiftedMotion {
+    Ok(LiftedMotion {
         waypoints: densify(&out, settings.max_step),
         carry_height,
+    })
+}
+
+/// The grasp's tool yaw and TCP height above the table ([`grasp_yaw`],
+/// [`grasp_height`]), or why the gripper cannot take the object.
+pub fn grasp_pose(
+    s: &Scenario,
+    held: &Object,
+    gripper: &GripperReach,
+    settings: &LiftSettings,
+) -> Result<(f64, f64), String> {
+    Ok((
+        grasp_yaw(s, held, gripper, settings)?,
+        grasp_height(s, held, gripper, settings)?,
+    ))
+}
+
+/// TCP height above the table at the grasp (see the module doc), or why no
+/// height keeps the palm clear of the object while the fingers still hold it.
+pub fn grasp_height(
+    s: &Scenario,
+    held: &Object,
+    gripper: &GripperReach,
+    settings: &LiftSettings,
+) -> Result<f64, String> {
+    let h = held.height;
+    let margin = s.safety.obstacle_margin;
+    let grasp = (h / 2.0)
+        .max(settings.min_grasp_height)
+        .max(gripper.tips_below_tcp + settings.tip_clearance)
+        .max(h + margin + settings.palm_clearance - gripper.palm_above_tcp);
+    let tips = grasp - gripper.tips_below_tcp;
+    let depth = h - tips;
+    // 1 nm: a grip of exactly `min_grip_depth` passes despite rounding.
+    if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
+        return Ok(grasp);
     }
+    Err(format!(
+        "{} is {h:.3} m tall: with the palm {margin:.3} m above its top the fingers ({:.3} m long) reach {:.1} mm below it, less than half its height or {:.1} mm",
+        held.name,
+        gripper.finger_length,
+        depth.max(0.0) * 1e3,
+        settings.min_grip_depth * 1e3
+    ))
 }
 
 /// Carry height (metres above the table top) of a sub-goal that moves
@@ -249,15 +334,34 @@ fn tallest(s: &Scenario, held: usize) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Tool yaw that lays the tool's x axis along the box's longer side, so the
-/// fingers (closing along the tool's y axis) span its shorter side. Pixel
-/// axes are mapped through `pixel_to_base`.
-fn grasp_yaw(s: &Scenario, w: f64, l: f64) -> f64 {
+/// Tool yaw that lays the tool's x axis along the object's longer side
+/// (metres), so the fingers (closing along the tool's y axis) span its
+/// narrower side; pixel axes are mapped through `pixel_to_base`. `Err` names
+/// both widths when that side plus `opening_clearance` exceeds the
+/// gripper's opening.
+pub fn grasp_yaw(
+    s: &Scenario,
+    held: &Object,
+    gripper: &GripperReach,
+    settings: &LiftSettings,
+) -> Result<f64, String> {
+    let [mu, mv] = s.metres_per_pixel();
+    let (along_u, along_v) = (held.bbox.w * mu, held.bbox.l * mv);
+    let across = along_u.min(along_v);
+    if across + settings.opening_clearance > gripper.max_opening {
+        return Err(format!(
+            "{} is {across:.3} m wide across its narrower side ({:.3} m with {:.3} m clearance); the gripper opens {:.3} m",
+            held.name,
+            across + settings.opening_clearance,
+            settings.opening_clearance,
+            gripper.max_opening
+        ));
+    }
     let m = &s.camera.pixel_to_base;
-    let (dx, dy) = if w >= l {
+    let (dx, dy) = if along_u >= along_v {
         (m[0][0], m[1][0])
     } else {
         (m[0][1], m[1][1])
     };
-    dy.atan2(dx)
+    Ok(dy.atan2(dx))
 }

@@ -13,12 +13,12 @@ use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
-use crate::clearance::{ArmMotion, PathHit, check_motion};
+use crate::clearance::{ArmMotion, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{SubGoal, subgoals};
-use crate::lift::{LiftSettings, LiftedMotion, Phase, lift};
+use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
 use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
@@ -103,6 +103,9 @@ pub struct SubgoalPlan {
     pub cells: Vec<[usize; 2]>,
     /// Pixel centre `[u, v]` of every visited cell.
     pub path_px: Vec<[f64; 2]>,
+    /// Pixel `[u, v]` where the object is released and rests: its spot in
+    /// the goal box, inside the drop cell ([`crate::place`]).
+    pub release_px: [f64; 2],
     pub training_steps: usize,
     /// Shortest possible plan length (BFS oracle), for comparison.
     pub optimal_length: usize,
@@ -182,6 +185,8 @@ struct World {
     gripper_px: [f64; 2],
     robot: Option<RobotModel>,
     geometry: Option<RobotGeometry>,
+    /// The gripper's reach and opening (stage `waypoints` and later).
+    gripper: Option<GripperReach>,
     joints: Vec<f64>,
 }
 
@@ -200,7 +205,7 @@ impl Planner {
         let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
         let spec = &scenario.robot;
         let needs_robot =
-            options.until >= Stage::Joints || spec.start.is_none() || spec.joints.is_some();
+            options.until >= Stage::Waypoints || spec.start.is_none() || spec.joints.is_some();
         let robot = match needs_robot {
             true => Some(
                 RobotModel::load(&spec.model, &options.base_dir)
@@ -212,7 +217,7 @@ impl Planner {
             Some(r) => Some(self.start_state(scenario, r, &goals[0])?),
             None => None,
         };
-        let geometry = match (&robot, options.until >= Stage::Joints) {
+        let geometry = match (&robot, options.until >= Stage::Waypoints) {
             (Some(r), true) => {
                 Some(RobotGeometry::new(r).map_err(|e| PlanError::Robot(e.to_string()))?)
             }
@@ -229,11 +234,16 @@ impl Planner {
             Some(s) => (s.joints, s.gripper_px),
             None => (Vec::new(), spec.start.unwrap_or_default()),
         };
+        let gripper = match (&robot, &geometry) {
+            (Some(r), Some(g)) => Some(gripper_reach(r, g).map_err(PlanError::Robot)?),
+            _ => None,
+        };
         let mut world = World {
             scene: scenario.clone(),
             gripper_px,
             robot,
             geometry,
+            gripper,
             joints,
         };
         let mut plan = Plan {
@@ -336,8 +346,16 @@ impl Planner {
         timings: &mut StageTimings,
     ) -> Result<Attempt, String> {
         let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
+        if let Some(gripper) = &world.gripper {
+            grasp_pose(
+                scene,
+                &scene.objects[request.object],
+                gripper,
+                &options.lift,
+            )?;
+        }
         let task = timed(&mut timings.grid, || {
-            let mut grid = StateGrid::build(scene, request);
+            let mut grid = StateGrid::build_placing(scene, request, opening(world));
             blocked.iter().for_each(|&cell| grid.block(cell));
             GridTask::new(grid)
         });
@@ -345,7 +363,7 @@ impl Planner {
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
         let Some(optimal) = oracle::optimal_length(&task) else {
             return Err(match blocked.is_empty() {
-                true => why_unsolvable(scene, request),
+                true => why_unsolvable(scene, request, opening(world)),
                 false => format!(
                     "no route is left once {} cells the arm collides over are blocked",
                     blocked.len()
@@ -362,6 +380,9 @@ impl Planner {
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
+        let Some(gripper) = &world.gripper else {
+            return Err("the robot is needed to lift the plan".to_string());
+        };
         let mut motion = timed(&mut timings.lift, || {
             lift(
                 scene,
@@ -370,16 +391,21 @@ impl Planner {
                 request.goal,
                 &learned.actions,
                 &learned.cells,
+                gripper,
                 &options.lift,
             )
-        });
+        })?;
         if retry.flipped {
             motion
                 .waypoints
                 .iter_mut()
                 .for_each(|w| w.yaw += std::f64::consts::PI);
         }
-        let (Some(robot), Some(geometry)) = (&world.robot, &world.geometry) else {
+        let (Some(robot), Some(geometry), true) = (
+            &world.robot,
+            &world.geometry,
+            options.until >= Stage::Joints,
+        ) else {
             done.waypoints = Some(motion);
             return Ok(Attempt::Planned(Box::new(done)));
         };
@@ -543,11 +569,11 @@ impl Replan {
 }
 
 impl World {
-    /// The scene after a planned sub-goal: the object rests where it was
-    /// released, the gripper is there, the arm where its path ended (other
-    /// arms stay where they are: the collision check sees them there).
+    /// The scene after a planned sub-goal: the object rests on its spot in
+    /// the goal box, the gripper is over it, the arm where its path ended
+    /// (other arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
-        self.gripper_px = *done.path_px.last().unwrap_or(&self.gripper_px);
+        self.gripper_px = done.release_px;
         let object = &mut self.scene.objects[request.object];
         object.bbox = object.bbox.centred_at(self.gripper_px);
         let (Some(robot), Some(arm), Some(path)) = (&self.robot, &done.arm, &done.joint_path)
@@ -665,6 +691,9 @@ fn subgoal_plan(
         actions: learned.actions.clone(),
         cells: learned.cells.iter().map(|&(r, c)| [r, c]).collect(),
         path_px: learned.cells.iter().map(|&c| grid.centre(c)).collect(),
+        release_px: grid
+            .release
+            .unwrap_or_else(|_| grid.centre(*learned.cells.last().unwrap_or(&grid.start))),
         training_steps: learned.training_steps,
         optimal_length,
         grid: GridInfo {
@@ -680,9 +709,15 @@ fn subgoal_plan(
     }
 }
 
+/// The open fingers' span the resting spot leaves room for (m), once the
+/// robot is known.
+fn opening(world: &World) -> Option<f64> {
+    world.gripper.map(|g| g.max_opening)
+}
+
 /// Why the oracle finds no plan, in words a user can act on.
-fn why_unsolvable(scene: &Scenario, request: GridRequest) -> String {
-    let grid = StateGrid::build(scene, request);
+fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<f64>) -> String {
+    let grid = StateGrid::build_placing(scene, request, opening);
     let object = &scene.objects[request.object].name;
     let goal = &scene.goals[request.goal].name;
     if grid.code(grid.target) == CellCode::Hand {
@@ -691,14 +726,15 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest) -> String {
     if grid.code(grid.start) == CellCode::Hand {
         return "a hand's perimeter covers the gripper: wait for the hand to move".to_string();
     }
-    if grid.drop.is_none() {
-        return format!("safety perimeters cover the whole {goal}");
+    if let Err(no_spot) = grid.release {
+        return no_spot.reason(scene, request.object, request.goal);
     }
     let without_hands = Scenario {
         hands: Vec::new(),
         ..scene.clone()
     };
-    if oracle::optimal_length(&GridTask::new(StateGrid::build(&without_hands, request))).is_some() {
+    let grid = StateGrid::build_placing(&without_hands, request, opening);
+    if oracle::optimal_length(&GridTask::new(grid)).is_some() {
         return "hand blocks every route".to_string();
     }
     format!("no free route from the gripper to {object} and on to the {goal}")

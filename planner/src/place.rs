@@ -1,0 +1,223 @@
+//! Where a released object comes to rest in its goal box: a small packing
+//! of the box floor, so each piece lies wholly inside the box's inner walls
+//! and apart from the pieces already there.
+//!
+//! Candidate centres lie on a lattice over the inner rectangle (the goal's
+//! pixel box minus the walls, [`afford_collision::GOAL_WALL`], minus
+//! [`WALL_CLEARANCE`]) that keeps the whole object footprint inside: steps of
+//! [`LATTICE_STEP`] or coarser, at most [`LATTICE_POINTS`] a side (bounded
+//! work for any box). They are tried row by row (increasing v, then
+//! increasing u), the bottom-left-fill order that packs equal pieces in
+//! rows from one corner. A candidate is free when the object's footprint
+//! keeps [`WALL_CLEARANCE`] from every piece already in the box; from a
+//! piece whose top comes within its safety margin of the box's wall top
+//! (below which nothing is lowered: the object is released above the wall
+//! top and the fingers stay above the object's bottom), the footprint,
+//! widened across the grasp axis to the open fingers' span, keeps that
+//! margin plus [`WALL_CLEARANCE`], as the collision check will ask. Sizes
+//! are metres from pixel sizes through `metres_per_pixel`.
+
+use afford_collision::GOAL_WALL;
+
+use crate::geometry::object_margin;
+use crate::scenario::Scenario;
+
+/// Gap kept between the released footprint and the inner walls, and added
+/// to the earlier pieces' margins, m.
+pub const WALL_CLEARANCE: f64 = 0.005;
+/// Finest lattice step, m.
+pub const LATTICE_STEP: f64 = 0.002;
+/// Most lattice points along each axis.
+pub const LATTICE_POINTS: usize = 64;
+
+/// Why no spot is left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoSpot {
+    /// The object's footprint is larger than the inner rectangle.
+    TooLarge,
+    /// Every spot overlaps a piece already in the box (or its margin).
+    Full,
+    /// The free spots all lie where the gripper may not go (a hand's or
+    /// another obstacle's perimeter).
+    Covered,
+}
+
+impl NoSpot {
+    /// The refusal in words.
+    pub fn reason(self, s: &Scenario, object: usize, goal: usize) -> String {
+        let (o, g) = (&s.objects[object], &s.goals[goal]);
+        let [mu, mv] = s.metres_per_pixel();
+        match self {
+            Self::TooLarge => format!(
+                "{} ({:.3} m x {:.3} m) does not fit inside the {}'s inner walls ({:.3} m x {:.3} m, {} m clearance)",
+                o.name,
+                o.bbox.w * mu,
+                o.bbox.l * mv,
+                g.name,
+                g.bbox.w * mu - 2.0 * GOAL_WALL,
+                g.bbox.l * mv - 2.0 * GOAL_WALL,
+                WALL_CLEARANCE
+            ),
+            Self::Full => format!("{} is full", g.name),
+            Self::Covered => format!("safety perimeters cover the whole {}", g.name),
+        }
+    }
+}
+
+/// The pixel centre where `scenario.objects[object]` is released into
+/// `scenario.goals[goal]`: the first free lattice spot that `allowed`
+/// accepts (the grid's test that the gripper may go there). `opening`: the
+/// open fingers' span across the grasp axis (m), `None` when unknown.
+pub fn release_spot(
+    s: &Scenario,
+    object: usize,
+    goal: usize,
+    opening: Option<f64>,
+    allowed: impl Fn([f64; 2]) -> bool,
+) -> Result<[f64; 2], NoSpot> {
+    let [mu, mv] = s.metres_per_pixel();
+    let held = s.objects[object].bbox;
+    let g = s.goals[goal].bbox;
+    let inset = [
+        (GOAL_WALL + WALL_CLEARANCE) / mu + held.w / 2.0,
+        (GOAL_WALL + WALL_CLEARANCE) / mv + held.l / 2.0,
+    ];
+    let lo = [g.u + inset[0], g.v + inset[1]];
+    let hi = [g.u + g.w - inset[0], g.v + g.l - inset[1]];
+    if lo[0] > hi[0] || lo[1] > hi[1] {
+        return Err(NoSpot::TooLarge);
+    }
+    let axis = |k: usize, mpp: f64| {
+        let span = hi[k] - lo[k];
+        let n = ((span * mpp / LATTICE_STEP).floor() as usize + 1).min(LATTICE_POINTS);
+        (0..n)
+            .map(move |i| match n {
+                1 => lo[k] + span / 2.0,
+                _ => lo[k] + span * i as f64 / (n - 1) as f64,
+            })
+            .collect::<Vec<f64>>()
+    };
+    let (us, vs) = (axis(0, mu), axis(1, mv));
+    let spots = vs.iter().flat_map(|&v| us.iter().map(move |&u| [u, v]));
+    let wall = s.goals[goal].height;
+    let held = footprint(s, object, None);
+    let fingers = footprint(s, object, opening);
+    let pieces: Vec<(usize, [f64; 2], f64)> = (0..s.objects.len())
+        .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
+        .map(|j| {
+            let o = &s.objects[j];
+            let margin = object_margin(s, o);
+            match wall - o.height > margin {
+                true => (j, held, 0.0),
+                false => (j, fingers, margin),
+            }
+        })
+        .collect();
+    let clear = |p: [f64; 2]| {
+        pieces
+            .iter()
+            .all(|&(j, half, margin)| gap(s, half, p, j) >= margin + WALL_CLEARANCE)
+    };
+    let mut free = spots.filter(|&p| clear(p)).peekable();
+    if free.peek().is_none() {
+        return Err(NoSpot::Full);
+    }
+    free.find(|&p| allowed(p)).ok_or(NoSpot::Covered)
+}
+
+/// Half sizes (px) of what is lowered over the spot: the object's footprint,
+/// widened across the grasp axis (its narrower side in metres) to the open
+/// fingers' span.
+fn footprint(s: &Scenario, object: usize, opening: Option<f64>) -> [f64; 2] {
+    let [mu, mv] = s.metres_per_pixel();
+    let b = s.objects[object].bbox;
+    let mut half = [b.w / 2.0, b.l / 2.0];
+    if let Some(open) = opening {
+        let (k, mpp) = if b.w * mu <= b.l * mv {
+            (0, mu)
+        } else {
+            (1, mv)
+        };
+        half[k] = half[k].max(open / 2.0 / mpp);
+    }
+    half
+}
+
+/// Distance (m) between the footprint `half` centred at `p` and piece `j`
+/// (0 when they overlap).
+fn gap(s: &Scenario, half: [f64; 2], p: [f64; 2], j: usize) -> f64 {
+    let [mu, mv] = s.metres_per_pixel();
+    let o = &s.objects[j];
+    let c = o.bbox.centre();
+    let du = ((p[0] - c[0]).abs() - half[0] - o.bbox.w / 2.0).max(0.0) * mu;
+    let dv = ((p[1] - c[1]).abs() - half[1] - o.bbox.l / 2.0).max(0.0) * mv;
+    du.hypot(dv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{PixelBox, default_scenario};
+
+    /// The default scene (0.025 m squares, 0.03 m tall, in a 0.10 m box)
+    /// with the left box (index 0) at `bbox`.
+    fn scene(bbox: [f64; 4]) -> Scenario {
+        let mut s = default_scenario().unwrap();
+        s.goals[0].bbox = PixelBox::from(bbox);
+        s
+    }
+
+    fn put(s: &mut Scenario, object: usize, at: [f64; 2]) {
+        s.objects[object].bbox = s.objects[object].bbox.centred_at(at);
+    }
+
+    /// Gap (m) between the plain footprints of objects `a` and `b`.
+    fn footprint_gap(s: &Scenario, a: usize, b: usize) -> f64 {
+        let half = footprint(s, a, None);
+        gap(s, half, s.objects[a].bbox.centre(), b)
+    }
+
+    #[test]
+    fn release_spots_fill_rows_from_one_corner_inside_the_inner_walls() {
+        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
+        let [mu, mv] = s.metres_per_pixel();
+        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        // Top-left corner: wall + clearance + half the object from each side.
+        assert!((first[0] - (20.0 + (GOAL_WALL + WALL_CLEARANCE) / mu + 20.0)).abs() < 1e-9);
+        assert!((first[1] - (300.0 + (GOAL_WALL + WALL_CLEARANCE) / mv + 20.0)).abs() < 1e-9);
+        put(&mut s, 0, first);
+        let second = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 1, second);
+        assert_eq!(second[1], first[1], "same row");
+        assert!(footprint_gap(&s, 1, 0) >= WALL_CLEARANCE);
+    }
+
+    #[test]
+    fn full_goal_and_too_large_object_have_their_reasons() {
+        let mut s = scene([20.0, 300.0, 80.0, 80.0]);
+        put(&mut s, 0, [60.0, 340.0]);
+        assert_eq!(release_spot(&s, 1, 0, None, |_| true), Err(NoSpot::Full));
+        assert_eq!(NoSpot::Full.reason(&s, 1, 0), "left box is full");
+        let small = scene([20.0, 300.0, 60.0, 60.0]);
+        assert_eq!(
+            release_spot(&small, 1, 0, None, |_| true),
+            Err(NoSpot::TooLarge)
+        );
+        let roomy = scene([20.0, 300.0, 160.0, 160.0]);
+        assert_eq!(
+            release_spot(&roomy, 1, 0, None, |_| false),
+            Err(NoSpot::Covered)
+        );
+    }
+
+    #[test]
+    fn pieces_as_tall_as_the_wall_keep_their_margin_from_the_open_fingers() {
+        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
+        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 0, first);
+        s.objects[0].height = s.goals[0].height;
+        let spot = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        put(&mut s, 1, spot);
+        assert!(footprint_gap(&s, 1, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
+    }
+}
