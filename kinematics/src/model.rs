@@ -167,6 +167,8 @@ pub struct RobotModel {
     pub(crate) home: Vec<Real>,
     pub(crate) gripper: Gripper,
     pub(crate) self_collision_skip: Vec<(usize, usize)>,
+    /// The URDF text the model was built from.
+    pub(crate) urdf: std::sync::Arc<str>,
 }
 
 impl RobotModel {
@@ -178,6 +180,12 @@ impl RobotModel {
     /// Where the model came from: `built-in` or the description path.
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// The URDF text the model was built from, for tools that parse it
+    /// themselves (the independent checker `afford-check`).
+    pub fn urdf(&self) -> &str {
+        &self.urdf
     }
 
     /// All links, parents before children; index 0 is the base frame.
