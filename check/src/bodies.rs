@@ -155,7 +155,11 @@ mod tests {
                 for b in &bodies {
                     let support = b.shape.as_support_map().unwrap();
                     for k in 0..26 {
-                        let d = [(k % 3) as f64 - 1.0, ((k / 3) % 3) as f64 - 1.0, (k / 9) as f64 - 1.0];
+                        let d = [
+                            (k % 3) as f64 - 1.0,
+                            ((k / 3) % 3) as f64 - 1.0,
+                            (k / 9) as f64 - 1.0,
+                        ];
                         let dir = parry3d::math::Vector::new(d[0], d[1], d[2] + 0.01);
                         let s = support.local_support_point(dir);
                         let local = b.pose_link_shape * Point3::new(s.x, s.y, s.z);

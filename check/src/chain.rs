@@ -81,7 +81,10 @@ impl Kinematics {
     }
 
     /// Walks every link's node up to the root at the robot's home posture.
-    fn ancestry_at(&self, robot: &RobotModel) -> Result<Vec<Vec<(usize, nalgebra::Vector3<f64>)>>, String> {
+    fn ancestry_at(
+        &self,
+        robot: &RobotModel,
+    ) -> Result<Vec<Vec<(usize, nalgebra::Vector3<f64>)>>, String> {
         let _ = self.link_poses(robot.home());
         let index_of = |name: &str| robot.joints().iter().position(|j| j.name == name);
         let nodes: Vec<&k::Node<f64>> = self.chain.iter().collect();
@@ -92,8 +95,9 @@ impl Kinematics {
             while let Some(current) = node {
                 let joint = current.joint();
                 if joint.is_movable() {
-                    let j = index_of(&joint.name)
-                        .ok_or_else(|| format!("joint '{}' is not in the description", joint.name))?;
+                    let j = index_of(&joint.name).ok_or_else(|| {
+                        format!("joint '{}' is not in the description", joint.name)
+                    })?;
                     let origin = joint
                         .world_transform()
                         .ok_or("k has no transform for a joint")?
@@ -115,7 +119,10 @@ impl Kinematics {
 pub(crate) fn to_parry(pose: &Iso) -> PPose {
     let t = &pose.translation.vector;
     let q = &pose.rotation.quaternion().coords;
-    PPose::from_parts(PVec::new(t.x, t.y, t.z), PRot::from_xyzw(q.x, q.y, q.z, q.w))
+    PPose::from_parts(
+        PVec::new(t.x, t.y, t.z),
+        PRot::from_xyzw(q.x, q.y, q.z, q.w),
+    )
 }
 
 #[cfg(test)]
@@ -144,7 +151,11 @@ mod tests {
                 for (link, (a, b)) in robot.links().iter().zip(ours.iter().zip(&theirs)) {
                     let dp = (a.translation.vector - b.translation.vector).norm();
                     let dr = a.rotation.angle_to(&b.rotation);
-                    assert!(dp < 1e-9 && dr < 1e-9, "{name} {}: {dp} m, {dr} rad", link.name);
+                    assert!(
+                        dp < 1e-9 && dr < 1e-9,
+                        "{name} {}: {dp} m, {dr} rad",
+                        link.name
+                    );
                 }
             }
         }

@@ -48,7 +48,11 @@ struct World {
 pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> Report {
     let mut report = Report::default();
     if plan.subgoals.is_empty() {
-        report.push(C::Format, None, "the plan has no sub-goals: nothing to execute".into());
+        report.push(
+            C::Format,
+            None,
+            "the plan has no sub-goals: nothing to execute".into(),
+        );
         return report;
     }
     let r = match Robot::new(robot) {
@@ -144,7 +148,11 @@ fn self_pairs(model: &RobotModel, kin: &Kinematics, bodies: &[Body]) -> Vec<(usi
         for b in a + 1..bodies.len() {
             let (la, lb) = (bodies[a].link, bodies[b].link);
             let adjacent = collider_parent(la) == Some(lb) || collider_parent(lb) == Some(la);
-            if la == lb || adjacent || model.skips_self_collision(la, lb) || joints(la) == joints(lb) {
+            if la == lb
+                || adjacent
+                || model.skips_self_collision(la, lb)
+                || joints(la) == joints(lb)
+            {
                 continue;
             }
             pairs.push((a, b));
@@ -154,11 +162,20 @@ fn self_pairs(model: &RobotModel, kin: &Kinematics, bodies: &[Body]) -> Vec<(usi
 }
 
 /// Checks one sub-goal; false when the check cannot go on past it.
-fn subgoal(s: &Scenario, r: &Robot, world: &mut World, k: usize, sub: &SubgoalFile, report: &mut Report) -> bool {
+fn subgoal(
+    s: &Scenario,
+    r: &Robot,
+    world: &mut World,
+    k: usize,
+    sub: &SubgoalFile,
+    report: &mut Report,
+) -> bool {
     let checked = match format::check(s, r.model, sub) {
         Ok(c) => c,
         Err(found) => {
-            found.into_iter().for_each(|(c, m)| report.push(c, Some(k), m));
+            found
+                .into_iter()
+                .for_each(|(c, m)| report.push(c, Some(k), m));
             return false;
         }
     };
@@ -191,7 +208,11 @@ fn subgoal(s: &Scenario, r: &Robot, world: &mut World, k: usize, sub: &SubgoalFi
         Err(_) => Vec::new(),
     };
     let joints = ArmJoints {
-        joints: arm.joint_indices.iter().map(|&j| &r.model.joints()[j]).collect(),
+        joints: arm
+            .joint_indices
+            .iter()
+            .map(|&j| &r.model.joints()[j])
+            .collect(),
     };
     for (class, message) in rates::check(&joints, points, &windows) {
         report.push(class, Some(k), message);
@@ -199,7 +220,9 @@ fn subgoal(s: &Scenario, r: &Robot, world: &mut World, k: usize, sub: &SubgoalFi
     let events = match events {
         Ok(e) => e,
         Err(found) => {
-            found.into_iter().for_each(|(c, m)| report.push(c, Some(k), m));
+            found
+                .into_iter()
+                .for_each(|(c, m)| report.push(c, Some(k), m));
             return false;
         }
     };
@@ -213,7 +236,8 @@ fn subgoal(s: &Scenario, r: &Robot, world: &mut World, k: usize, sub: &SubgoalFi
         .map(|q| r.kin.link_poses(q)[tool_link])
         .collect();
     let times: Vec<f64> = points.iter().map(|p| p.time_from_start).collect();
-    let positions: Vec<Vec<Vector3<f64>>> = vec![tools.iter().map(|t| t.translation.vector).collect()];
+    let positions: Vec<Vec<Vector3<f64>>> =
+        vec![tools.iter().map(|t| t.translation.vector).collect()];
     let hands = scene::hand_boxes(s);
     if let Some(m) = tool_speed::check(&s.safety.separation, &hands, &positions[0], &times) {
         report.push(C::ToolSpeed, Some(k), m);
@@ -292,7 +316,11 @@ impl Phases<'_> {
     fn run(&self, report: &mut Report, k: usize) -> Result<(), String> {
         let (s, r) = (self.s, self.r);
         let scene = scene::obstacles(s, &self.world.pieces, self.target, self.goal);
-        let target = Obstacle::piece(&self.world.pieces[self.target], s.safety.obstacle_margin, Role::Target);
+        let target = Obstacle::piece(
+            &self.world.pieces[self.target],
+            s.safety.obstacle_margin,
+            Role::Target,
+        );
         let before: Vec<Obstacle> = scene.iter().cloned().chain([target]).collect();
         let after: Vec<Obstacle> = scene
             .iter()
@@ -317,8 +345,20 @@ impl Phases<'_> {
             (o, n - 1, &after, &r.bodies),
         ];
         let rest = &self.world.q;
-        let positions: Vec<&[f64]> = self.sub.trajectory.points.iter().map(|p| p.positions.as_slice()).collect();
-        let times: Vec<f64> = self.sub.trajectory.points.iter().map(|p| p.time_from_start).collect();
+        let positions: Vec<&[f64]> = self
+            .sub
+            .trajectory
+            .points
+            .iter()
+            .map(|p| p.positions.as_slice())
+            .collect();
+        let times: Vec<f64> = self
+            .sub
+            .trajectory
+            .points
+            .iter()
+            .map(|p| p.time_from_start)
+            .collect();
         let phases: Vec<Phase> = plans
             .iter()
             .map(|&(from, to, obstacles, bodies)| Phase {
@@ -376,7 +416,11 @@ impl Phases<'_> {
         if bodies.len() > n_robot {
             let tool = &bodies[n_robot];
             for (b, body) in r.bodies.iter().enumerate() {
-                let rigid = body.radii.iter().zip(&tool.radii).all(|(x, y)| (*x > 0.0) == (*y > 0.0));
+                let rigid = body
+                    .radii
+                    .iter()
+                    .zip(&tool.radii)
+                    .all(|(x, y)| (*x > 0.0) == (*y > 0.0));
                 if !rigid {
                     pairs.push(Pair {
                         body: n_robot,

@@ -107,14 +107,23 @@ impl Phase<'_> {
             let (a, t0) = (self.positions[i], self.times[i]);
             let Some((&b, &t1)) = self.positions.get(i + 1).zip(self.times.get(i + 1)) else {
                 self.set(&mut q, a, a, 0.0);
-                self.measure(&q, (t0, self.first_sample + i), &travelled, &mut resume, findings);
+                self.measure(
+                    &q,
+                    (t0, self.first_sample + i),
+                    &travelled,
+                    &mut resume,
+                    findings,
+                );
                 break;
             };
             let n = self.substeps(a, b, &mut dq);
             for s in 0..n {
                 let f = s as f64 / n as f64;
                 self.set(&mut q, a, b, f);
-                let at = (t0 + f * (t1 - t0), self.first_sample + i + usize::from(2 * s >= n));
+                let at = (
+                    t0 + f * (t1 - t0),
+                    self.first_sample + i + usize::from(2 * s >= n),
+                );
                 self.measure(&q, at, &travelled, &mut resume, findings);
                 for (t, body) in travelled.iter_mut().zip(self.bodies) {
                     *t += body.travel(&dq) / n as f64;
@@ -145,7 +154,12 @@ impl Phase<'_> {
                     Other::Body(b) => travelled[b],
                 }
         };
-        if !self.pairs.iter().zip(resume.iter()).any(|(p, &r)| motion(p) >= r) {
+        if !self
+            .pairs
+            .iter()
+            .zip(resume.iter())
+            .any(|(p, &r)| motion(p) >= r)
+        {
             return;
         }
         let links = self.kin.link_poses(q);
@@ -166,12 +180,19 @@ impl Phase<'_> {
                     let d = obstacle
                         .parts
                         .iter()
-                        .map(|(pose, shape)| signed_distance(&poses[p.body], &body.shape, pose, shape))
+                        .map(|(pose, shape)| {
+                            signed_distance(&poses[p.body], &body.shape, pose, shape)
+                        })
                         .fold(f64::INFINITY, f64::min);
                     (d, &obstacle.name, Some(obstacle.role))
                 }
                 Other::Body(b) => {
-                    let d = signed_distance(&poses[p.body], &body.shape, &poses[b], &self.bodies[b].shape);
+                    let d = signed_distance(
+                        &poses[p.body],
+                        &body.shape,
+                        &poses[b],
+                        &self.bodies[b].shape,
+                    );
                     (d, &self.bodies[b].name, None)
                 }
             };

@@ -294,7 +294,11 @@ mod tests {
     #[test]
     fn an_oversized_joint_vector_is_refused_while_parsing() {
         let values = vec!["0.0"; MAX_JOINTS + 1].join(",");
-        let text = ONE.replacen(r#""positions": [0.0]"#, &format!(r#""positions": [{values}]"#), 2);
+        let text = ONE.replacen(
+            r#""positions": [0.0]"#,
+            &format!(r#""positions": [{values}]"#),
+            2,
+        );
         let e = read_plan(&text).unwrap_err().to_string();
         assert!(e.contains("more than 128 entries"), "{e}");
         assert!(e.contains("positions"), "{e}");

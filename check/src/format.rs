@@ -49,14 +49,20 @@ fn format(message: String) -> Found {
 }
 
 /// The names and the samples. `Err` holds the first problem found.
-pub(crate) fn check<'a>(s: &Scenario, robot: &'a RobotModel, sub: &SubgoalFile) -> Result<Checked<'a>, Found> {
+pub(crate) fn check<'a>(
+    s: &Scenario,
+    robot: &'a RobotModel,
+    sub: &SubgoalFile,
+) -> Result<Checked<'a>, Found> {
     let target = s
         .object_index(&sub.object)
         .ok_or_else(|| format(format!("object '{}' is not in the scenario", sub.object)))?;
     let goal = s
         .goal_index(&sub.goal)
         .ok_or_else(|| format(format!("goal '{}' is not in the scenario", sub.goal)))?;
-    let arm = robot.arm(&sub.arm).map_err(|e| format(format!("arm: {e}")))?;
+    let arm = robot
+        .arm(&sub.arm)
+        .map_err(|e| format(format!("arm: {e}")))?;
     if sub.joint_names != arm.joint_names {
         return Err(format(format!(
             "joint_names {:?} are not arm {}'s joints {:?}",
@@ -79,7 +85,9 @@ pub(crate) fn check<'a>(s: &Scenario, robot: &'a RobotModel, sub: &SubgoalFile) 
             points[0].time_from_start
         )));
     }
-    if let Some(i) = (1..points.len()).find(|&i| points[i].time_from_start <= points[i - 1].time_from_start) {
+    if let Some(i) =
+        (1..points.len()).find(|&i| points[i].time_from_start <= points[i - 1].time_from_start)
+    {
         return Err(format(format!(
             "points[{i}].time_from_start is {} after {} at points[{}]: times must strictly increase",
             points[i].time_from_start,
@@ -141,7 +149,12 @@ pub(crate) fn events(sub: &SubgoalFile) -> Result<Events, Found> {
     let points = &sub.trajectory.points;
     let last = points[points.len() - 1].time_from_start;
     for (k, ev) in e.iter().enumerate() {
-        if !(ev.start.is_finite() && ev.end.is_finite() && 0.0 <= ev.start && ev.start <= ev.end && ev.end <= last) {
+        if !(ev.start.is_finite()
+            && ev.end.is_finite()
+            && 0.0 <= ev.start
+            && ev.start <= ev.end
+            && ev.end <= last)
+        {
             return Err(bad(format!(
                 "gripper[{k}] runs from {} s to {} s: an event starts no later than it ends, inside the trajectory's 0 .. {last:.3} s",
                 ev.start, ev.end

@@ -41,7 +41,10 @@ fn corners(pose: &Iso, half: &[f64; 3]) -> Vec<Point3<f64>> {
 /// The released box dropped straight down until its lowest corner is on
 /// the floor at height `floor`.
 pub(crate) fn dropped(pose: &Iso, half: &[f64; 3], floor: f64) -> Iso {
-    let lowest = corners(pose, half).iter().map(|c| c.z).fold(f64::INFINITY, f64::min);
+    let lowest = corners(pose, half)
+        .iter()
+        .map(|c| c.z)
+        .fold(f64::INFINITY, f64::min);
     Translation3::new(0.0, 0.0, floor - lowest) * pose
 }
 

@@ -119,7 +119,11 @@ fn unit(j: &Joint) -> &'static str {
 /// Every position, velocity, acceleration and rest finding of one
 /// sub-goal. `events` are the gripper events' `[start, end]` windows.
 /// Expects a well-formed trajectory (see [`crate::format`]).
-pub(crate) fn check(arm: &ArmJoints, points: &[Sample], events: &[(f64, f64)]) -> Vec<(ViolationClass, String)> {
+pub(crate) fn check(
+    arm: &ArmJoints,
+    points: &[Sample],
+    events: &[(f64, f64)],
+) -> Vec<(ViolationClass, String)> {
     let mut tally = Tally::default();
     positions(arm, points, &mut tally);
     for (j, joint) in arm.joints.iter().enumerate() {
@@ -211,7 +215,10 @@ fn rates(j: usize, joint: &Joint, points: &[Sample], tally: &mut Tally) {
         }
         let around = [i.checked_sub(1), (i + 1 < n).then_some(i)];
         for k in around.into_iter().flatten() {
-            let (vm, allowed) = (mean(k), amax * dt(k) / 2.0 * (1.0 + RATE_TOLERANCE) + REST_TOLERANCE);
+            let (vm, allowed) = (
+                mean(k),
+                amax * dt(k) / 2.0 * (1.0 + RATE_TOLERANCE) + REST_TOLERANCE,
+            );
             if (v - vm).abs() > allowed {
                 tally.add(Check::VelocityConsistency, j, (v - vm).abs() / allowed, || {
                     format!(
@@ -224,7 +231,8 @@ fn rates(j: usize, joint: &Joint, points: &[Sample], tally: &mut Tally) {
         }
         let before = if i == 0 { 0.0 } else { mean(i - 1) };
         let after = if i + 1 == n { 0.0 } else { mean(i) };
-        let half = (if i == 0 { 0.0 } else { dt(i - 1) } + if i + 1 == n { 0.0 } else { dt(i) }) / 2.0;
+        let half =
+            (if i == 0 { 0.0 } else { dt(i - 1) } + if i + 1 == n { 0.0 } else { dt(i) }) / 2.0;
         let afd = (after - before) / half;
         if (0 < i && i + 1 < n) && over(afd, amax) {
             tally.add(Check::FiniteAcceleration, j, afd.abs() / amax, || {

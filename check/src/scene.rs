@@ -117,7 +117,10 @@ impl Obstacle {
             name: name.to_string(),
             margin,
             role: Role::Obstacle,
-            parts: vec![(to_parry(pose), SharedShape::cuboid(half[0], half[1], half[2]))],
+            parts: vec![(
+                to_parry(pose),
+                SharedShape::cuboid(half[0], half[1], half[2]),
+            )],
         }
     }
 
@@ -131,7 +134,12 @@ impl Obstacle {
 
 /// The scene of one sub-goal moving `target` into goal `goal`, without the
 /// target (the caller adds it with the role of the phase).
-pub(crate) fn obstacles(s: &Scenario, pieces: &[Piece], target: usize, goal: usize) -> Vec<Obstacle> {
+pub(crate) fn obstacles(
+    s: &Scenario,
+    pieces: &[Piece],
+    target: usize,
+    goal: usize,
+) -> Vec<Obstacle> {
     let safety = &s.safety;
     let z0 = s.camera.table_z;
     let mut out = vec![table(s)];
@@ -143,13 +151,28 @@ pub(crate) fn obstacles(s: &Scenario, pieces: &[Piece], target: usize, goal: usi
         out.push(Obstacle::piece(p, margin, Role::Obstacle));
     }
     for (i, g) in s.goals.iter().enumerate() {
-        let margin = if i == goal { 0.0 } else { safety.obstacle_margin };
-        out.push(open_box(&g.name, margin, &Footprint::of(s, g.bbox), z0, g.height));
+        let margin = if i == goal {
+            0.0
+        } else {
+            safety.obstacle_margin
+        };
+        out.push(open_box(
+            &g.name,
+            margin,
+            &Footprint::of(s, g.bbox),
+            z0,
+            g.height,
+        ));
     }
     for h in &s.hands {
         let f = Footprint::of(s, h.bbox);
         let half = [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * h.height];
-        out.push(Obstacle::solid(&h.name, safety.hand_margin, &f.pose(z0, h.height), half));
+        out.push(Obstacle::solid(
+            &h.name,
+            safety.hand_margin,
+            &f.pose(z0, h.height),
+            half,
+        ));
     }
     out
 }
@@ -171,10 +194,19 @@ fn table(s: &Scenario) -> Obstacle {
     let (w, h) = (s.camera.width as f64, s.camera.height as f64);
     let corners = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]].map(|p| s.pixel_to_base(p));
     let lo = [0, 1].map(|k| corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
-    let hi = [0, 1].map(|k| corners.iter().map(|c| c[k]).fold(f64::NEG_INFINITY, f64::max));
+    let hi = [0, 1].map(|k| {
+        corners
+            .iter()
+            .map(|c| c[k])
+            .fold(f64::NEG_INFINITY, f64::max)
+    });
     let z = s.camera.table_z - 0.5 * TABLE_THICKNESS;
     let pose = Iso::translation(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), z);
-    let half = [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1]), 0.5 * TABLE_THICKNESS];
+    let half = [
+        0.5 * (hi[0] - lo[0]),
+        0.5 * (hi[1] - lo[1]),
+        0.5 * TABLE_THICKNESS,
+    ];
     Obstacle::solid("table", 0.0, &pose, half)
 }
 
@@ -184,17 +216,32 @@ fn open_box(name: &str, margin: f64, f: &Footprint, z0: f64, height: f64) -> Obs
     let w = 0.5 * GOAL_WALL;
     let pieces = [
         ([0.5 * sx, 0.5 * sy, w], [0.0, 0.0, w]),
-        ([w, 0.5 * sy, 0.5 * height], [0.5 * sx - w, 0.0, 0.5 * height]),
-        ([w, 0.5 * sy, 0.5 * height], [-0.5 * sx + w, 0.0, 0.5 * height]),
-        ([(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height], [0.0, 0.5 * sy - w, 0.5 * height]),
-        ([(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height], [0.0, -0.5 * sy + w, 0.5 * height]),
+        (
+            [w, 0.5 * sy, 0.5 * height],
+            [0.5 * sx - w, 0.0, 0.5 * height],
+        ),
+        (
+            [w, 0.5 * sy, 0.5 * height],
+            [-0.5 * sx + w, 0.0, 0.5 * height],
+        ),
+        (
+            [(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height],
+            [0.0, 0.5 * sy - w, 0.5 * height],
+        ),
+        (
+            [(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height],
+            [0.0, -0.5 * sy + w, 0.5 * height],
+        ),
     ];
     let frame = f.pose(z0, 0.0);
     let parts = pieces
         .into_iter()
         .map(|(half, local)| {
             let pose = frame * Iso::translation(local[0], local[1], local[2]);
-            (to_parry(&pose), SharedShape::cuboid(half[0], half[1], half[2]))
+            (
+                to_parry(&pose),
+                SharedShape::cuboid(half[0], half[1], half[2]),
+            )
         })
         .collect();
     Obstacle {
@@ -213,8 +260,8 @@ pub(crate) fn signed_distance(
     p2: &parry3d::math::Pose,
     s2: &SharedShape,
 ) -> f64 {
-    let gap = parry3d::query::distance(p1, s1.as_ref(), p2, s2.as_ref())
-        .map_or(0.0, |d| d.distance);
+    let gap =
+        parry3d::query::distance(p1, s1.as_ref(), p2, s2.as_ref()).map_or(0.0, |d| d.distance);
     if gap > 0.0 {
         return gap;
     }

@@ -60,7 +60,12 @@ pub(crate) fn state(robot: &RobotModel, start: Option<&StartState>) -> Result<Ve
             names.len()
         ));
     }
-    if let Some((j, v)) = s.positions.iter().enumerate().find(|(_, v)| !(v.abs() <= MAX_ABS_POSITION)) {
+    if let Some((j, v)) = s
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !(v.abs() <= MAX_ABS_POSITION))
+    {
         return Err(format!(
             "start_state.positions[{j}] ({}) is {v}: not a finite value within ±{MAX_ABS_POSITION:e}",
             names[j]
@@ -136,7 +141,12 @@ fn others_at_rest(robot: &RobotModel, active: usize) -> Vec<Option<f64>> {
             expected[j] = None;
         }
     }
-    for (_, arm) in robot.arms().iter().enumerate().filter(|&(k, _)| k != active) {
+    for (_, arm) in robot
+        .arms()
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != active)
+    {
         for &(j, v) in &arm.park {
             expected[j] = Some(v);
         }
@@ -167,7 +177,10 @@ fn over_pixel(
         let tilt = down.clamp(-1.0, 1.0).acos();
         let t = pose.translation.vector;
         let [u, v] = s.base_to_pixel([t.x, t.y]);
-        let cells = [(u - pixel[0]).abs() / cell[0], (v - pixel[1]).abs() / cell[1]];
+        let cells = [
+            (u - pixel[0]).abs() / cell[0],
+            (v - pixel[1]).abs() / cell[1],
+        ];
         if tilt <= START_TILT && cells[0] <= 1.0 && cells[1] <= 1.0 {
             return Ok(k);
         }

@@ -35,7 +35,8 @@ pub(crate) fn cap(rule: &SeparationSettings, d: f64) -> f64 {
         false => rule.human_speed_m_s,
     };
     let (t_r, a_s) = (rule.reaction_time_s, rule.stop_deceleration_m_s2);
-    let constant = rule.intrusion_distance_m + rule.sensing_uncertainty_m + rule.robot_uncertainty_m;
+    let constant =
+        rule.intrusion_distance_m + rule.sensing_uncertainty_m + rule.robot_uncertainty_m;
     let (a, b, c) = (1.0 / (2.0 * a_s), t_r + v_h / a_s, v_h * t_r + constant - d);
     let mut v = match c >= 0.0 {
         true => 0.0,
@@ -115,9 +116,16 @@ mod tests {
         };
         for d in [0.3, 0.45, 0.8, 1.5] {
             let v = cap(&rule, d);
-            let v_h = if d > rule.human_speed_far_beyond_m { 1.6 } else { 2.0 };
+            let v_h = if d > rule.human_speed_far_beyond_m {
+                1.6
+            } else {
+                2.0
+            };
             let s_p = v_h * (0.1 + v / 2.0) + v * 0.1 + v * v / 4.0 + 0.08;
-            assert!(v > 0.0 && (s_p - d).abs() < 1e-12, "d = {d}: v = {v}, S_p = {s_p}");
+            assert!(
+                v > 0.0 && (s_p - d).abs() < 1e-12,
+                "d = {d}: v = {v}, S_p = {s_p}"
+            );
         }
         assert_eq!(cap(&rule, 0.1), 0.0);
         assert_eq!(cap(&SeparationSettings::default(), 0.1), 0.05);
@@ -129,7 +137,10 @@ mod tests {
         let rule = SeparationSettings::default();
         for k in 0..200 {
             let d = k as f64 * 0.01;
-            assert!((cap(&rule, d) - rule.tool_speed_cap(d)).abs() < 1e-12, "d = {d}");
+            assert!(
+                (cap(&rule, d) - rule.tool_speed_cap(d)).abs() < 1e-12,
+                "d = {d}"
+            );
         }
     }
 }
