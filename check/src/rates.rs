@@ -308,3 +308,90 @@ fn rest(j: usize, joint: &Joint, points: &[Sample], events: &[(f64, f64)], tally
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(kind: JointKind) -> Joint {
+        Joint {
+            name: "j".into(),
+            kind,
+            lower: -2.0 * std::f64::consts::PI,
+            upper: 2.0 * std::f64::consts::PI,
+            velocity: 1.0,
+            acceleration: 2.0,
+            effort: 1.0,
+        }
+    }
+
+    fn still_at(q: f64, times: &[f64]) -> Vec<Sample> {
+        times
+            .iter()
+            .map(|&t| Sample {
+                positions: vec![q],
+                velocities: vec![0.0],
+                accelerations: vec![0.0],
+                time_from_start: t,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_continuous_joint_at_7_rad_has_no_position_limit() {
+        let samples = still_at(7.0, &[0.0, 0.5, 1.0]);
+        let continuous = joint(JointKind::Continuous);
+        let found = check(&ArmJoints { joints: vec![&continuous] }, &samples, &[]);
+        assert!(found.is_empty(), "{found:?}");
+        let revolute = joint(JointKind::Revolute);
+        let found = check(&ArmJoints { joints: vec![&revolute] }, &samples, &[]);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].0, ViolationClass::Position);
+        assert!(found[0].1.contains("beyond its upper limit 6.2832"), "{}", found[0].1);
+    }
+
+    /// A bang-bang move within the limits passes; the same positions in half
+    /// the time need four times the acceleration.
+    #[test]
+    fn accelerations_are_recomputed_from_positions_and_times() {
+        let j = joint(JointKind::Revolute);
+        let (a, dt, n) = (2.0, 0.01, 100);
+        let times: Vec<f64> = (0..=n).map(|i| i as f64 * dt).collect();
+        let half = n as f64 * dt / 2.0;
+        let samples: Vec<Sample> = times
+            .iter()
+            .map(|&t| {
+                let (q, v, acc) = match t <= half {
+                    true => (a * t * t / 2.0, a * t, a),
+                    false => {
+                        let r = 2.0 * half - t;
+                        (a * half * half - a * r * r / 2.0, a * r, -a)
+                    }
+                };
+                let ends = t == 0.0 || (t - 2.0 * half).abs() < 1e-12;
+                Sample {
+                    positions: vec![q],
+                    velocities: vec![v],
+                    accelerations: vec![if ends { 0.0 } else { acc }],
+                    time_from_start: t,
+                }
+            })
+            .collect();
+        let arm = ArmJoints { joints: vec![&j] };
+        assert!(check(&arm, &samples, &[]).is_empty(), "{:?}", check(&arm, &samples, &[]));
+        let halved: Vec<Sample> = samples
+            .iter()
+            .map(|s| Sample {
+                time_from_start: s.time_from_start / 2.0,
+                ..s.clone()
+            })
+            .collect();
+        let found = check(&arm, &halved, &[]);
+        assert!(
+            found
+                .iter()
+                .any(|(c, m)| *c == ViolationClass::Acceleration && m.contains("recomputed")),
+            "{found:?}"
+        );
+    }
+}

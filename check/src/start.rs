@@ -200,3 +200,51 @@ fn over_pixel(
         nearest.join("; ")
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn setup() -> (Scenario, RobotModel, Kinematics) {
+        let s = afford_planner::scenario::default_scenario().unwrap();
+        let robot = RobotModel::builtin("kuka_iiwa14").unwrap();
+        let kin = Kinematics::new(&robot).unwrap();
+        (s, robot, kin)
+    }
+
+    #[test]
+    fn home_rule_wants_home_with_parks() {
+        let (s, robot, kin) = setup();
+        let mut q = robot.home().to_vec();
+        assert!(check(&StartRule::Home, &s, &robot, &kin, &q, [40.0, 40.0]).is_empty());
+        q[0] += 0.1;
+        let found = check(&StartRule::Home, &s, &robot, &kin, &q, [40.0, 40.0]);
+        assert_eq!(found.len(), 1);
+        assert!(found[0].contains("joint_a1"), "{}", found[0]);
+    }
+
+    #[test]
+    fn joints_rule_wants_the_stated_values() {
+        let (s, robot, kin) = setup();
+        let q = vec![0.1; robot.dof()];
+        let given: Vec<(String, f64)> = robot.joints().iter().map(|j| (j.name.clone(), 0.1)).collect();
+        assert!(check(&StartRule::Joints(given.clone()), &s, &robot, &kin, &q, [40.0, 40.0]).is_empty());
+        let mut other = given;
+        other[6].1 = 7.0;
+        let found = check(&StartRule::Joints(other), &s, &robot, &kin, &q, [40.0, 40.0]);
+        assert!(found.len() == 1 && found[0].contains("joint_a7"), "{found:?}");
+    }
+
+    #[test]
+    fn pixel_rule_wants_the_tool_down_over_the_pixel() {
+        let (s, robot, kin) = setup();
+        let q = robot.home().to_vec();
+        let tool = kin.link_poses(&q)[robot.link_index("tcp").unwrap()].translation.vector;
+        let under = s.base_to_pixel([tool.x, tool.y]);
+        let near = StartRule::Pixel([under[0] + 30.0, under[1] - 30.0]);
+        assert!(check(&near, &s, &robot, &kin, &q, [40.0, 40.0]).is_empty());
+        let far = StartRule::Pixel([under[0] + 50.0, under[1]]);
+        let found = check(&far, &s, &robot, &kin, &q, [40.0, 40.0]);
+        assert!(found.len() == 1 && found[0].contains("1.2 cells away"), "{found:?}");
+    }
+}
