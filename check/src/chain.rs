@@ -11,6 +11,10 @@ use parry3d::math::{Pose as PPose, Rotation as PRot, Vector as PVec};
 /// A pose from k (nalgebra 0.30).
 pub(crate) type Iso = Isometry3<f64>;
 
+/// Movable ancestor joints of a link, deepest first: (robot joint index,
+/// origin in the base frame at the reference configuration).
+pub(crate) type Ancestry = Vec<(usize, nalgebra::Vector3<f64>)>;
+
 /// The robot's kinematic tree as k sees it.
 pub(crate) struct Kinematics {
     chain: k::Chain<f64>,
@@ -21,7 +25,7 @@ pub(crate) struct Kinematics {
     /// Per description link: its movable ancestor joints (robot joint
     /// indices), deepest first, each with its origin at the reference
     /// configuration (base frame).
-    ancestry: Vec<Vec<(usize, nalgebra::Vector3<f64>)>>,
+    ancestry: Vec<Ancestry>,
 }
 
 impl Kinematics {
@@ -81,10 +85,7 @@ impl Kinematics {
     }
 
     /// Walks every link's node up to the root at the robot's home posture.
-    fn ancestry_at(
-        &self,
-        robot: &RobotModel,
-    ) -> Result<Vec<Vec<(usize, nalgebra::Vector3<f64>)>>, String> {
+    fn ancestry_at(&self, robot: &RobotModel) -> Result<Vec<Ancestry>, String> {
         let _ = self.link_poses(robot.home());
         let index_of = |name: &str| robot.joints().iter().position(|j| j.name == name);
         let nodes: Vec<&k::Node<f64>> = self.chain.iter().collect();

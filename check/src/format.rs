@@ -98,6 +98,11 @@ pub(crate) fn check<'a>(
     Ok(Checked { target, goal, arm })
 }
 
+/// True when `v` is a finite number with `|v| <= bound` (false for NaN).
+pub(crate) fn within(v: f64, bound: f64) -> bool {
+    v.is_finite() && v.abs() <= bound
+}
+
 /// One sample's sizes and values.
 fn sample(i: usize, p: &Sample, arm: &Arm) -> Result<(), String> {
     let n = arm.dof();
@@ -113,7 +118,7 @@ fn sample(i: usize, p: &Sample, arm: &Arm) -> Result<(), String> {
                 arm.name
             ));
         }
-        if let Some((j, v)) = values.iter().enumerate().find(|(_, v)| !(v.abs() <= bound)) {
+        if let Some((j, v)) = values.iter().enumerate().find(|(_, v)| !within(**v, bound)) {
             return Err(format!(
                 "points[{i}].{field}[{j}] ({}) is {v}: not a finite value within ±{bound:e}",
                 arm.joint_names[j]

@@ -341,13 +341,29 @@ mod tests {
     fn a_continuous_joint_at_7_rad_has_no_position_limit() {
         let samples = still_at(7.0, &[0.0, 0.5, 1.0]);
         let continuous = joint(JointKind::Continuous);
-        let found = check(&ArmJoints { joints: vec![&continuous] }, &samples, &[]);
+        let found = check(
+            &ArmJoints {
+                joints: vec![&continuous],
+            },
+            &samples,
+            &[],
+        );
         assert!(found.is_empty(), "{found:?}");
         let revolute = joint(JointKind::Revolute);
-        let found = check(&ArmJoints { joints: vec![&revolute] }, &samples, &[]);
+        let found = check(
+            &ArmJoints {
+                joints: vec![&revolute],
+            },
+            &samples,
+            &[],
+        );
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].0, ViolationClass::Position);
-        assert!(found[0].1.contains("beyond its upper limit 6.2832"), "{}", found[0].1);
+        assert!(
+            found[0].1.contains("beyond its upper limit 6.2832"),
+            "{}",
+            found[0].1
+        );
     }
 
     /// A bang-bang move within the limits passes; the same positions in half
@@ -378,7 +394,11 @@ mod tests {
             })
             .collect();
         let arm = ArmJoints { joints: vec![&j] };
-        assert!(check(&arm, &samples, &[]).is_empty(), "{:?}", check(&arm, &samples, &[]));
+        assert!(
+            check(&arm, &samples, &[]).is_empty(),
+            "{:?}",
+            check(&arm, &samples, &[])
+        );
         let halved: Vec<Sample> = samples
             .iter()
             .map(|s| Sample {

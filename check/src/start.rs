@@ -64,7 +64,7 @@ pub(crate) fn state(robot: &RobotModel, start: Option<&StartState>) -> Result<Ve
         .positions
         .iter()
         .enumerate()
-        .find(|(_, v)| !(v.abs() <= MAX_ABS_POSITION))
+        .find(|(_, v)| !crate::format::within(**v, MAX_ABS_POSITION))
     {
         return Err(format!(
             "start_state.positions[{j}] ({}) is {v}: not a finite value within ±{MAX_ABS_POSITION:e}",
@@ -227,24 +227,53 @@ mod tests {
     fn joints_rule_wants_the_stated_values() {
         let (s, robot, kin) = setup();
         let q = vec![0.1; robot.dof()];
-        let given: Vec<(String, f64)> = robot.joints().iter().map(|j| (j.name.clone(), 0.1)).collect();
-        assert!(check(&StartRule::Joints(given.clone()), &s, &robot, &kin, &q, [40.0, 40.0]).is_empty());
+        let given: Vec<(String, f64)> = robot
+            .joints()
+            .iter()
+            .map(|j| (j.name.clone(), 0.1))
+            .collect();
+        assert!(
+            check(
+                &StartRule::Joints(given.clone()),
+                &s,
+                &robot,
+                &kin,
+                &q,
+                [40.0, 40.0]
+            )
+            .is_empty()
+        );
         let mut other = given;
         other[6].1 = 7.0;
-        let found = check(&StartRule::Joints(other), &s, &robot, &kin, &q, [40.0, 40.0]);
-        assert!(found.len() == 1 && found[0].contains("joint_a7"), "{found:?}");
+        let found = check(
+            &StartRule::Joints(other),
+            &s,
+            &robot,
+            &kin,
+            &q,
+            [40.0, 40.0],
+        );
+        assert!(
+            found.len() == 1 && found[0].contains("joint_a7"),
+            "{found:?}"
+        );
     }
 
     #[test]
     fn pixel_rule_wants_the_tool_down_over_the_pixel() {
         let (s, robot, kin) = setup();
         let q = robot.home().to_vec();
-        let tool = kin.link_poses(&q)[robot.link_index("tcp").unwrap()].translation.vector;
+        let tool = kin.link_poses(&q)[robot.link_index("tcp").unwrap()]
+            .translation
+            .vector;
         let under = s.base_to_pixel([tool.x, tool.y]);
         let near = StartRule::Pixel([under[0] + 30.0, under[1] - 30.0]);
         assert!(check(&near, &s, &robot, &kin, &q, [40.0, 40.0]).is_empty());
         let far = StartRule::Pixel([under[0] + 50.0, under[1]]);
         let found = check(&far, &s, &robot, &kin, &q, [40.0, 40.0]);
-        assert!(found.len() == 1 && found[0].contains("1.2 cells away"), "{found:?}");
+        assert!(
+            found.len() == 1 && found[0].contains("1.2 cells away"),
+            "{found:?}"
+        );
     }
 }

@@ -74,13 +74,10 @@ pub(crate) fn check(
     for i in 0..tool.len().saturating_sub(1) {
         let dt = times[i + 1] - times[i];
         let speed = (tool[i + 1] - tool[i]).norm() / dt;
-        let Some((d, hand)) = [nearest(&tool[i]), nearest(&tool[i + 1])]
+        let (d, hand) = [nearest(&tool[i]), nearest(&tool[i + 1])]
             .into_iter()
             .flatten()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-        else {
-            return None;
-        };
+            .min_by(|a, b| a.0.total_cmp(&b.0))?;
         let allowed = cap(rule, d);
         if speed > allowed * (1.0 + TOOL_SPEED_TOLERANCE) {
             count += 1;
