@@ -89,6 +89,7 @@ impl RobotModel {
         let tree = urdf::parse(&urdf_text, &urdf_path)?;
         let mut model = assemble(&tree, &description, &description_path)?;
         model.source = description_path.display().to_string();
+        model.urdf = urdf_text.into();
         Ok(model)
     }
 
@@ -104,6 +105,7 @@ impl RobotModel {
         let tree = urdf::parse(urdf_text, urdf_file)?;
         let mut model = assemble(&tree, &description, description_file)?;
         model.source = description_file.display().to_string();
+        model.urdf = urdf_text.into();
         Ok(model)
     }
 }
@@ -334,6 +336,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         gripper: d.gripper.clone(),
         self_collision_skip,
         allowed_collisions: d.allowed_collisions.clone(),
+        urdf: "".into(),
     })
 }
 

@@ -187,6 +187,8 @@ pub struct RobotModel {
     pub(crate) gripper: Gripper,
     pub(crate) self_collision_skip: Vec<(usize, usize)>,
     pub(crate) allowed_collisions: Option<AllowedCollisions>,
+    /// The URDF text the model was built from.
+    pub(crate) urdf: std::sync::Arc<str>,
 }
 
 impl RobotModel {
@@ -198,6 +200,12 @@ impl RobotModel {
     /// Where the model came from: `built-in` or the description path.
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// The URDF text the model was built from, for tools that parse it
+    /// themselves (the independent checker `afford-check`).
+    pub fn urdf(&self) -> &str {
+        &self.urdf
     }
 
     /// All links, parents before children; index 0 is the base frame.

@@ -19,7 +19,6 @@
 //! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
 //! | time-parameterisation | [`timing`], [`trajectory`] (Clarabel) | — |
 //! | pipeline | [`plan`] | Fig. 2 |
-//! | independent re-check | [`verify`] | — |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -48,7 +47,6 @@ pub mod start;
 pub mod task;
 pub mod timing;
 pub mod trajectory;
-pub mod verify;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};

@@ -2,11 +2,11 @@
 
 use std::io::IsTerminal;
 
+use afford_check::PlanFile;
 use afford_kinematics::RobotModel;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use afford_planner::bench::safety::{Finding, Robots, SafetyReport, run_scene};
 use afford_planner::bench::scenes;
-use afford_planner::verify::{TrajectoryFile, check_trajectories};
 use afford_planner::{Plan, Scenario};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -189,44 +189,19 @@ fn write_scenes(dir: &std::path::Path, seed: u64, count: usize) -> Result<(), Fa
     Ok(())
 }
 
-/// The campaign's independent re-check of one plan.
-///
-/// STOP-GAP until the afford-check crate is merged: today's
-/// `afford_planner::verify::check_trajectories`, fed through a JSON round
-/// trip of the plan (as `afford check` reads a file), its kinds mapped to
-/// the contract's classes. At merge time the lead replaces the body by
-/// `afford_check::check_plan(scenario, robot, &PlanFile::from(plan))`, each
-/// violation becoming a `Finding` with its class (snake_case), sub-goal and
-/// message. Today's checker is weak: it assumes the robot starts at home
-/// (every Care-O-bot plan starts parked), stops at the first failing
-/// sub-goal, and knows only format, continuity, limits and collisions.
+/// The campaign's re-check of one plan: the independent checker
+/// (`afford-check`, no code shared with the planner's own checks), in
+/// memory, each violation a finding of its class.
 fn recheck(scenario: &Scenario, robot: &RobotModel, plan: &Plan) -> Vec<Finding> {
-    let finding = |class: &str, subgoal: Option<usize>, message: String| Finding {
-        class: class.to_string(),
-        subgoal,
-        message,
-    };
-    let file: TrajectoryFile = match serde_json::to_value(plan).and_then(serde_json::from_value) {
-        Ok(file) => file,
-        Err(e) => return vec![finding("format", None, format!("plan file: {e}"))],
-    };
-    match check_trajectories(scenario, robot, &file) {
-        Err(e) => vec![finding("format", None, e)],
-        Ok(violations) => violations
-            .into_iter()
-            .map(|v| {
-                let class = match (v.kind, v.subgoal) {
-                    ("continuity", 0) => "start",
-                    ("collision", _) if v.message.contains("(SelfCollision)") => "self_collision",
-                    ("collision", _) if v.message.contains("(Perimeter)") => "margin",
-                    ("collision", _) if v.message.contains("(Contact)") => "penetration",
-                    ("collision", _) => "format",
-                    (kind, _) => kind,
-                };
-                finding(class, Some(v.subgoal), v.message)
-            })
-            .collect(),
-    }
+    afford_check::check_plan(scenario, robot, &PlanFile::from(plan))
+        .violations
+        .into_iter()
+        .map(|v| Finding {
+            class: v.class.name().to_string(),
+            subgoal: v.subgoal,
+            message: v.message,
+        })
+        .collect()
 }
 
 /// A report as pretty JSON, or as indented YAML for people.

@@ -25,7 +25,7 @@ pub enum Command {
     Plan(PlanArgs),
     /// Parse a scenario and explain it (objects, margins, sub-goals, grids) without planning.
     Validate(ValidateArgs),
-    /// Re-check a trajectory file (the output of `afford plan`) against its scenario: limits and collisions with margins.
+    /// Re-check a plan file (the output of `afford plan`) against its scenario with an independent checker; exit 0 pass, 1 violations, 2 bad input.
     Check(CheckArgs),
     /// List the built-in robots with their arms, degrees of freedom and reach;
     /// `afford robots acm ROBOT` derives a robot's allowed-collision matrix.
@@ -88,7 +88,10 @@ pub struct CheckArgs {
     /// The scenario the trajectories were planned for.
     pub scenario: PathBuf,
     /// The plan file with trajectories (JSON or YAML), as written by `afford plan`.
-    pub trajectory: PathBuf,
+    pub plan: PathBuf,
+    /// Print the verdict and every violation as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]

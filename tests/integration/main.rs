@@ -2,6 +2,7 @@
 //! module per topic. Fixtures live in tests/fixtures/.
 
 mod cases;
+mod check;
 mod cli;
 mod cql_properties;
 mod examples;

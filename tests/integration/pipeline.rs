@@ -1,31 +1,12 @@
-//! The whole pipeline through the CLI: stages (`--until`), trajectories that
-//! `afford check` accepts and edited ones it rejects, CSV output, a user
-//! robot named by path in a scenario, and the pipeline benchmark report.
+//! The whole pipeline through the CLI: stages (`--until`), ROS-shaped
+//! trajectories, CSV output, a user robot named by path in a scenario, and
+//! the pipeline benchmark report (`afford check` has tests/integration/check.rs).
 
 use std::path::Path;
 
 use serde_json::Value;
 
-use crate::util::{afford, afford_with_path, assert_contains_all, repo, scratch_dir};
-
-/// Plans `scenario` to a JSON file in `dir` and returns its path and content.
-fn plan_to_file(scenario: &Path, dir: &Path) -> (std::path::PathBuf, Value) {
-    let out = dir.join("plan.json");
-    afford_with_path(
-        &["plan"],
-        scenario,
-        &["-o", out.to_str().expect("UTF-8 path")],
-    )
-    .assert_code(0);
-    let value = serde_json::from_str(&std::fs::read_to_string(&out).expect("plan written"))
-        .expect("plan is JSON");
-    (out, value)
-}
-
-fn write_json(path: &Path, value: &Value) {
-    std::fs::write(path, serde_json::to_string(value).expect("serialise"))
-        .expect("write edited plan");
-}
+use crate::util::{afford, afford_with_path, assert_contains_all, plan_to_file, repo, scratch_dir};
 
 #[test]
 fn every_stage_adds_its_part_of_the_plan() {
@@ -90,70 +71,6 @@ fn the_default_trajectory_is_ros_shaped_and_starts_and_ends_at_rest() {
             - points[0]["time_from_start"].as_f64().expect("time");
         assert!((dt - 0.01).abs() < 1e-9, "100 Hz by default, got dt = {dt}");
     }
-}
-
-#[test]
-fn check_accepts_a_planned_trajectory_and_rejects_a_velocity_edit() {
-    let dir = scratch_dir("check-velocity");
-    let scenario = repo().join("examples/hand-on-route.yaml");
-    let (path, mut plan) = plan_to_file(&scenario, &dir);
-    afford_with_path(&["check"], &scenario, &[path.to_str().expect("UTF-8")]).assert_code(0);
-
-    plan["subgoals"][0]["trajectory"]["points"][40]["velocities"][1] = Value::from(5.0);
-    let edited = dir.join("edited.json");
-    write_json(&edited, &plan);
-    let run = afford_with_path(&["check"], &scenario, &[edited.to_str().expect("UTF-8")]);
-    run.assert_code(1).assert_no_panic();
-    assert_contains_all(
-        "stderr",
-        &run.stderr,
-        &["velocity", "joint_a2", "5.0000 rad/s", "limit 1.4835"],
-    );
-}
-
-#[test]
-fn check_rejects_a_trajectory_through_a_hand_perimeter() {
-    let dir = scratch_dir("check-hand");
-    let scenario = repo().join("examples/sort-blue-squares.yaml");
-    let (path, plan) = plan_to_file(&scenario, &dir);
-    // The same trajectories against the scene with a hand resting right under
-    // the middle of the first carry: the edit puts the route through its perimeter.
-    let cells = plan["subgoals"][0]["path_px"].as_array().expect("path");
-    let mid = &cells[cells.len() / 2];
-    let (u, v) = (mid[0].as_f64().expect("u"), mid[1].as_f64().expect("v"));
-    let text = std::fs::read_to_string(&scenario).expect("scenario");
-    let with_hand = text.replace(
-        "instruction:",
-        &format!("hands:\n  - {{name: intruding-hand, box: [{}, {}, 30, 30], height: 0.06}}\ninstruction:", u - 15.0, v - 15.0),
-    );
-    let edited = dir.join("with-hand.yaml");
-    std::fs::write(&edited, with_hand).expect("write scenario");
-    let run = afford_with_path(&["check"], &edited, &[path.to_str().expect("UTF-8")]);
-    run.assert_code(1).assert_no_panic();
-    assert_contains_all(
-        "stderr",
-        &run.stderr,
-        &[
-            "collision",
-            "intruding-hand",
-            "Perimeter",
-            "margin 100.0 mm",
-        ],
-    );
-}
-
-#[test]
-fn check_rejects_a_trajectory_that_jumps() {
-    let dir = scratch_dir("check-jump");
-    let scenario = repo().join("examples/hand-on-route.yaml");
-    let (_, mut plan) = plan_to_file(&scenario, &dir);
-    let q = &mut plan["subgoals"][0]["trajectory"]["points"][0]["positions"][0];
-    *q = Value::from(q.as_f64().expect("position") + 0.3);
-    let edited = dir.join("jump.json");
-    write_json(&edited, &plan);
-    let run = afford_with_path(&["check"], &scenario, &[edited.to_str().expect("UTF-8")]);
-    run.assert_code(1);
-    assert_contains_all("stderr", &run.stderr, &["continuity", "0.3", "velocity"]);
 }
 
 #[test]

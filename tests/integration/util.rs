@@ -110,3 +110,17 @@ pub fn assert_contains_all(what: &str, haystack: &str, needles: &[&str]) {
     let missing: Vec<&&str> = needles.iter().filter(|n| !haystack.contains(**n)).collect();
     assert!(missing.is_empty(), "{what} lacks {missing:?}:\n{haystack}");
 }
+
+/// Plans `scenario` to `plan.json` in `dir` (exit 0 expected) and returns
+/// the file's path and its JSON.
+pub fn plan_to_file(scenario: &Path, dir: &Path) -> (PathBuf, serde_json::Value) {
+    let out = dir.join("plan.json");
+    afford_with_path(
+        &["plan"],
+        scenario,
+        &["-o", out.to_str().expect("UTF-8 path")],
+    )
+    .assert_code(0);
+    let text = std::fs::read_to_string(&out).expect("plan written");
+    (out, serde_json::from_str(&text).expect("plan is JSON"))
+}

@@ -74,6 +74,11 @@ pub struct TimingSettings {
     /// checked), 0.005. Corner blends are sized for half of it; checked on
     /// every sample when the arm's forward kinematics is given.
     pub max_tool_deviation_m: f64,
+    /// Relative margin taken off every tool-speed cap near a hand, 0.02. The
+    /// program bounds the speed of the tool-space interpolant; the tool
+    /// really follows forward kinematics of the joint path, measured up to
+    /// 0.4 % faster on the examples (0.0502 against a 0.05 m/s cap).
+    pub tool_speed_margin: f64,
 }
 
 impl Default for TimingSettings {
@@ -89,6 +94,7 @@ impl Default for TimingSettings {
             max_iterations: 100,
             solver_tolerance: 1e-7,
             max_tool_deviation_m: 0.005,
+            tool_speed_margin: 0.02,
         }
     }
 }
@@ -96,7 +102,7 @@ impl Default for TimingSettings {
 impl TimingSettings {
     /// Checks every field is finite and in range.
     pub fn validate(&self) -> Result<(), TimingError> {
-        let checks: [(&'static str, f64, bool, &'static str); 7] = [
+        let checks: [(&'static str, f64, bool, &'static str); 8] = [
             ("rate_hz", self.rate_hz, self.rate_hz > 0.0, "> 0"),
             (
                 "speed_scale",
@@ -122,6 +128,12 @@ impl TimingSettings {
                 self.max_tool_deviation_m,
                 self.max_tool_deviation_m > 0.0,
                 "> 0",
+            ),
+            (
+                "tool_speed_margin",
+                self.tool_speed_margin,
+                (0.0..0.5).contains(&self.tool_speed_margin),
+                "in [0, 0.5)",
             ),
             (
                 "solver_tolerance",
@@ -336,6 +348,7 @@ pub fn time_parameterize_tool(
     // Limits inside the program: scaled, with the margin taken off.
     let k = settings.speed_scale;
     let shrink = 1.0 - settings.limit_margin;
+    let tool_shrink = shrink * (1.0 - settings.tool_speed_margin);
     let vel_sq: Vec<f64> = limits
         .velocity
         .iter()
@@ -363,7 +376,7 @@ pub fn time_parameterize_tool(
         seg_rows.clear();
         let tool_i = tool
             .as_ref()
-            .map(|(spline, caps, _)| (spline, (caps[i] * shrink).powi(2)));
+            .map(|(spline, caps, _)| (spline, (caps[i] * tool_shrink).powi(2)));
         grid::segment_rows(&spline, &grid, i, &vel_sq, &acc, tool_i, &mut seg_rows);
         // b_0 = b_N = 0: their coefficients vanish.
         if i == 0 {

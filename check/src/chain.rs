@@ -1,0 +1,176 @@
+//! Forward kinematics of the whole robot with the k crate, built from the
+//! URDF text by urdf-rs 0.9 and `k::Chain::from` — none of
+//! afford-kinematics' own FK. Owns the mapping between the robot
+//! description's joint and link order and k's nodes, and the one
+//! conversion from k's nalgebra poses to parry's glam poses.
+
+use afford_kinematics::RobotModel;
+use nalgebra::Isometry3;
+use parry3d::math::{Pose as PPose, Rotation as PRot, Vector as PVec};
+
+/// A pose from k (nalgebra 0.30).
+pub(crate) type Iso = Isometry3<f64>;
+
+/// Movable ancestor joints of a link, deepest first: (robot joint index,
+/// origin in the base frame at the reference configuration).
+pub(crate) type Ancestry = Vec<(usize, nalgebra::Vector3<f64>)>;
+
+/// The robot's kinematic tree as k sees it.
+pub(crate) struct Kinematics {
+    chain: k::Chain<f64>,
+    /// Position in k's movable-joint vector of each robot joint (description order).
+    k_slot: Vec<usize>,
+    /// Index in `chain.iter()` of the node posing each description link.
+    link_node: Vec<usize>,
+    /// Per description link: its movable ancestor joints (robot joint
+    /// indices), deepest first, each with its origin at the reference
+    /// configuration (base frame).
+    ancestry: Vec<Ancestry>,
+}
+
+impl Kinematics {
+    /// Builds k's chain from the model's URDF. `Err` names what does not
+    /// match the description (a joint or link k does not know).
+    pub(crate) fn new(robot: &RobotModel) -> Result<Self, String> {
+        let urdf = urdf_rs_k::read_from_string(robot.urdf())
+            .map_err(|e| format!("the URDF cannot be read by urdf-rs 0.9: {e}"))?;
+        let chain = k::Chain::<f64>::from(&urdf);
+        let movable: Vec<String> = chain.iter_joints().map(|j| j.name.clone()).collect();
+        let k_slot = robot
+            .joints()
+            .iter()
+            .map(|j| {
+                movable
+                    .iter()
+                    .position(|n| *n == j.name)
+                    .ok_or_else(|| format!("joint '{}' is not a movable joint for k", j.name))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let nodes: Vec<&k::Node<f64>> = chain.iter().collect();
+        let link_node = robot
+            .links()
+            .iter()
+            .map(|l| {
+                nodes
+                    .iter()
+                    .position(|n| n.link().as_ref().is_some_and(|k| k.name == l.name))
+                    .ok_or_else(|| format!("link '{}' is not in k's chain", l.name))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut kinematics = Self {
+            chain,
+            k_slot,
+            link_node,
+            ancestry: Vec::new(),
+        };
+        kinematics.ancestry = kinematics.ancestry_at(robot)?;
+        Ok(kinematics)
+    }
+
+    /// Pose of every description link (base frame) for a robot configuration.
+    pub(crate) fn link_poses(&self, q: &[f64]) -> Vec<Iso> {
+        let mut slots = vec![0.0; self.k_slot.len()];
+        for (&slot, &v) in self.k_slot.iter().zip(q) {
+            slots[slot] = v;
+        }
+        self.chain.set_joint_positions_unchecked(&slots);
+        let all = self.chain.update_transforms();
+        self.link_node.iter().map(|&n| all[n]).collect()
+    }
+
+    /// Movable ancestor joints of a link, deepest first, with their origins
+    /// at the reference configuration (see [`Self::new`]).
+    pub(crate) fn ancestry(&self, link: usize) -> &[(usize, nalgebra::Vector3<f64>)] {
+        &self.ancestry[link]
+    }
+
+    /// Walks every link's node up to the root at the robot's home posture.
+    fn ancestry_at(&self, robot: &RobotModel) -> Result<Vec<Ancestry>, String> {
+        let _ = self.link_poses(robot.home());
+        let index_of = |name: &str| robot.joints().iter().position(|j| j.name == name);
+        let nodes: Vec<&k::Node<f64>> = self.chain.iter().collect();
+        let mut out = Vec::with_capacity(self.link_node.len());
+        for &n in &self.link_node {
+            let mut list = Vec::new();
+            let mut node = Some(nodes[n].clone());
+            while let Some(current) = node {
+                let joint = current.joint();
+                if joint.is_movable() {
+                    let j = index_of(&joint.name).ok_or_else(|| {
+                        format!("joint '{}' is not in the description", joint.name)
+                    })?;
+                    let origin = joint
+                        .world_transform()
+                        .ok_or("k has no transform for a joint")?
+                        .translation
+                        .vector;
+                    list.push((j, origin));
+                }
+                drop(joint);
+                node = current.parent();
+            }
+            out.push(list);
+        }
+        Ok(out)
+    }
+}
+
+/// k's pose → parry's pose (exact: the same quaternion coefficients; glam
+/// stores w last, nalgebra's `coords` are (i, j, k, w) too).
+pub(crate) fn to_parry(pose: &Iso) -> PPose {
+    let t = &pose.translation.vector;
+    let q = &pose.rotation.quaternion().coords;
+    PPose::from_parts(
+        PVec::new(t.x, t.y, t.z),
+        PRot::from_xyzw(q.x, q.y, q.z, q.w),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// k's FK against afford-kinematics' own (the only place both are used).
+    #[test]
+    fn k_forward_kinematics_agrees_with_afford_kinematics() {
+        for name in afford_kinematics::BUILTIN_ROBOTS {
+            let robot = RobotModel::builtin(name).unwrap();
+            let kin = Kinematics::new(&robot).unwrap();
+            for trial in 0..20 {
+                let q: Vec<f64> = robot
+                    .joints()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, j)| {
+                        let s = 0.5 + 0.45 * ((trial * 7 + i * 3) as f64).sin();
+                        let (lo, hi) = (j.lower.max(-3.0), j.upper.min(3.0));
+                        lo + s * (hi - lo)
+                    })
+                    .collect();
+                let ours = kin.link_poses(&q);
+                let theirs = robot.link_poses(&q).unwrap();
+                for (link, (a, b)) in robot.links().iter().zip(ours.iter().zip(&theirs)) {
+                    let dp = (a.translation.vector - b.translation.vector).norm();
+                    let dr = a.rotation.angle_to(&b.rotation);
+                    assert!(
+                        dp < 1e-9 && dr < 1e-9,
+                        "{name} {}: {dp} m, {dr} rad",
+                        link.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn pose_conversion_keeps_the_transform() {
+        let pose = Iso::new(
+            nalgebra::Vector3::new(0.1, -0.2, 0.3),
+            nalgebra::Vector3::new(0.4, -1.2, 2.9),
+        );
+        let p = nalgebra::Point3::new(0.3, 0.7, -0.1);
+        let a = pose * p;
+        let b = to_parry(&pose) * PVec::new(0.3, 0.7, -0.1);
+        assert!((a.x - b.x).abs() + (a.y - b.y).abs() + (a.z - b.z).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,442 @@
+//! The check of a whole plan: the start state against the scenario, then
+//! each sub-goal in order — format, continuity, joint limits and rest,
+//! gripper events, tool speed near hands, gripper opening, the dense
+//! collision check in three phases (before the grasp: the target may be
+//! touched by the fingers only; holding: the object rides with the tool;
+//! after the release: the object lies where it dropped), placement — and
+//! then the world moves on: the object rests where it dropped, the arm
+//! where its trajectory ended. A sub-goal whose samples or gripper events
+//! cannot be read ends the check (what follows it is unknown).
+
+use afford_kinematics::RobotModel;
+use afford_planner::Scenario;
+use nalgebra::Vector3;
+
+use crate::bodies::{Body, body, robot_bodies};
+use crate::chain::Kinematics;
+use crate::dense::{self, Findings, MAX_CONFIGURATIONS, Other, Pair, Phase};
+use crate::file::{PlanFile, SubgoalFile};
+use crate::format::{self, Events};
+use crate::placement;
+use crate::rates::{self, ArmJoints, REST_TOLERANCE};
+use crate::report::{Report, ViolationClass as C};
+use crate::scene::{self, GOAL_WALL, Obstacle, Piece, Role};
+use crate::start::{self, StartRule};
+use crate::tool_speed;
+
+/// The robot as the checker models it.
+struct Robot<'a> {
+    model: &'a RobotModel,
+    kin: Kinematics,
+    bodies: Vec<Body>,
+    /// Body pairs checked for self-collision.
+    self_pairs: Vec<(usize, usize)>,
+    /// Bodies that may touch the target before the grasp.
+    fingers: Vec<bool>,
+}
+
+/// What carries over from one sub-goal to the next.
+struct World {
+    /// The whole robot's configuration.
+    q: Vec<f64>,
+    /// Every object of the scenario, where it is now.
+    pieces: Vec<Piece>,
+}
+
+/// Checks `plan` against `scenario` for `robot`. Never panics on any input;
+/// an empty report means the plan passed.
+pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> Report {
+    let mut report = Report::default();
+    if plan.subgoals.is_empty() {
+        report.push(
+            C::Format,
+            None,
+            "the plan has no sub-goals: nothing to execute".into(),
+        );
+        return report;
+    }
+    let r = match Robot::new(robot) {
+        Ok(r) => r,
+        Err(e) => {
+            report.push(C::Format, None, format!("robot {}: {e}", robot.name()));
+            return report;
+        }
+    };
+    let q = match start::state(robot, plan.start_state.as_ref()) {
+        Ok(q) => q,
+        Err(e) => {
+            report.push(C::Format, None, e);
+            return report;
+        }
+    };
+    let cell = scenario
+        .object_index(&plan.subgoals[0].object)
+        .map_or([1.0, 1.0], |i| {
+            let b = scenario.objects[i].bbox;
+            [b.w, b.l]
+        });
+    for message in start::check(
+        &StartRule::of(scenario, robot),
+        scenario,
+        robot,
+        &r.kin,
+        &q,
+        cell,
+    ) {
+        report.push(C::Start, None, message);
+    }
+    let mut world = World {
+        q,
+        pieces: scene::pieces(scenario),
+    };
+    for (k, sub) in plan.subgoals.iter().enumerate() {
+        if !subgoal(scenario, &r, &mut world, k, sub, &mut report) {
+            break;
+        }
+    }
+    report
+}
+
+impl<'a> Robot<'a> {
+    fn new(model: &'a RobotModel) -> Result<Self, String> {
+        let kin = Kinematics::new(model)?;
+        let bodies = robot_bodies(model, &kin);
+        let self_pairs = self_pairs(model, &kin, &bodies);
+        let fingers = bodies
+            .iter()
+            .map(|b| model.gripper().fingers.contains(&b.name))
+            .collect();
+        Ok(Self {
+            model,
+            kin,
+            bodies,
+            self_pairs,
+            fingers,
+        })
+    }
+
+    /// The arm's tool link index.
+    fn tool_link(&self, arm: &afford_kinematics::Arm) -> usize {
+        self.model.link_index(&arm.tool_link).unwrap_or(0)
+    }
+
+    /// Whole-robot configuration with the arm's values from `arm_q`.
+    fn with_arm(&self, rest: &[f64], arm: &afford_kinematics::Arm, arm_q: &[f64]) -> Vec<f64> {
+        let mut q = rest.to_vec();
+        for (&j, &v) in arm.joint_indices.iter().zip(arm_q) {
+            q[j] = v;
+        }
+        q
+    }
+}
+
+/// Pairs of bodies checked against each other: every pair except bodies of
+/// one link, pairs that never move relative to each other (the same joints
+/// move both), adjacent links (one is the nearest link with colliders above
+/// the other) and the pairs the description allows.
+fn self_pairs(model: &RobotModel, kin: &Kinematics, bodies: &[Body]) -> Vec<(usize, usize)> {
+    let joints = |link: usize| {
+        let mut j: Vec<usize> = kin.ancestry(link).iter().map(|&(j, _)| j).collect();
+        j.sort_unstable();
+        j
+    };
+    let links = model.links();
+    let collider_parent = |mut l: usize| {
+        while let Some(p) = links[l].parent {
+            if !links[p].colliders.is_empty() {
+                return Some(p);
+            }
+            l = p;
+        }
+        None
+    };
+    let mut pairs = Vec::new();
+    for a in 0..bodies.len() {
+        for b in a + 1..bodies.len() {
+            let (la, lb) = (bodies[a].link, bodies[b].link);
+            let adjacent = collider_parent(la) == Some(lb) || collider_parent(lb) == Some(la);
+            if la == lb
+                || adjacent
+                || model.skips_self_collision(la, lb)
+                || joints(la) == joints(lb)
+            {
+                continue;
+            }
+            pairs.push((a, b));
+        }
+    }
+    pairs
+}
+
+/// Checks one sub-goal; false when the check cannot go on past it.
+fn subgoal(
+    s: &Scenario,
+    r: &Robot,
+    world: &mut World,
+    k: usize,
+    sub: &SubgoalFile,
+    report: &mut Report,
+) -> bool {
+    let checked = match format::check(s, r.model, sub) {
+        Ok(c) => c,
+        Err(found) => {
+            found
+                .into_iter()
+                .for_each(|(c, m)| report.push(c, Some(k), m));
+            return false;
+        }
+    };
+    let (arm, points) = (checked.arm, &sub.trajectory.points);
+    let first = &points[0].positions;
+    let here: Vec<f64> = arm.joint_indices.iter().map(|&j| world.q[j]).collect();
+    if let Some((j, (a, b))) = first
+        .iter()
+        .zip(&here)
+        .enumerate()
+        .find(|(_, (a, b))| (*a - *b).abs() > REST_TOLERANCE)
+    {
+        let (class, from) = match k {
+            0 => (C::Start, "start_state".to_string()),
+            _ => (C::Continuity, format!("where sub-goal {} ended", k - 1)),
+        };
+        report.push(
+            class,
+            Some(k),
+            format!(
+                "the trajectory starts with {} = {a:.6}, {:.6} away from {from} ({b:.6})",
+                arm.joint_names[j],
+                (a - b).abs()
+            ),
+        );
+    }
+    let events = format::events(sub);
+    let windows = match &events {
+        Ok(e) => vec![e.close, e.open],
+        Err(_) => Vec::new(),
+    };
+    let joints = ArmJoints {
+        joints: arm
+            .joint_indices
+            .iter()
+            .map(|&j| &r.model.joints()[j])
+            .collect(),
+    };
+    for (class, message) in rates::check(&joints, points, &windows) {
+        report.push(class, Some(k), message);
+    }
+    let events = match events {
+        Ok(e) => e,
+        Err(found) => {
+            found
+                .into_iter()
+                .for_each(|(c, m)| report.push(c, Some(k), m));
+            return false;
+        }
+    };
+    let configurations: Vec<Vec<f64>> = points
+        .iter()
+        .map(|p| r.with_arm(&world.q, arm, &p.positions))
+        .collect();
+    let tool_link = r.tool_link(arm);
+    let tools: Vec<crate::chain::Iso> = configurations
+        .iter()
+        .map(|q| r.kin.link_poses(q)[tool_link])
+        .collect();
+    let times: Vec<f64> = points.iter().map(|p| p.time_from_start).collect();
+    let positions: Vec<Vec<Vector3<f64>>> =
+        vec![tools.iter().map(|t| t.translation.vector).collect()];
+    let hands = scene::hand_boxes(s);
+    if let Some(m) = tool_speed::check(&s.safety.separation, &hands, &positions[0], &times) {
+        report.push(C::ToolSpeed, Some(k), m);
+    }
+    let target = checked.target;
+    let piece = world.pieces[target].clone();
+    let grasp_tool = tools[events.close_sample];
+    let width = placement::width_across_fingers(&piece, &grasp_tool);
+    let opening = r.model.gripper().max_opening;
+    if width > opening + placement::PLACEMENT_TOLERANCE {
+        report.push(
+            C::GripperOpening,
+            Some(k),
+            format!(
+                "{} is {width:.4} m wide across the fingers (the tool's y axis at the close, t = {:.3} s, sample {}), but the gripper opens {opening:.4} m",
+                piece.name, events.close.0, events.close_sample
+            ),
+        );
+    }
+    let rel = grasp_tool.inverse() * piece.pose;
+    let released_pose = placement::dropped(
+        &(tools[events.open_sample] * rel),
+        &piece.half,
+        s.camera.table_z + GOAL_WALL,
+    );
+    let released = Piece {
+        pose: released_pose,
+        ..piece.clone()
+    };
+    let phases = Phases {
+        s,
+        r,
+        world,
+        sub,
+        arm,
+        target,
+        goal: checked.goal,
+        events,
+        rel,
+        released: &released,
+    };
+    if let Err(m) = phases.run(report, k) {
+        report.push(C::Format, Some(k), m);
+    }
+    let others: Vec<&Piece> = world
+        .pieces
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != target)
+        .map(|(_, p)| p)
+        .collect();
+    for m in placement::check(s, checked.goal, &released, &others) {
+        report.push(C::Placement, Some(k), m);
+    }
+    world.pieces[target] = released;
+    world.q = configurations[configurations.len() - 1].clone();
+    true
+}
+
+/// The three phases of the dense collision check of one sub-goal.
+struct Phases<'a> {
+    s: &'a Scenario,
+    r: &'a Robot<'a>,
+    world: &'a World,
+    sub: &'a SubgoalFile,
+    arm: &'a afford_kinematics::Arm,
+    target: usize,
+    goal: usize,
+    events: Events,
+    /// The held object's pose in the tool frame.
+    rel: crate::chain::Iso,
+    released: &'a Piece,
+}
+
+impl Phases<'_> {
+    fn run(&self, report: &mut Report, k: usize) -> Result<(), String> {
+        let (s, r) = (self.s, self.r);
+        let scene = scene::obstacles(s, &self.world.pieces, self.target, self.goal);
+        let target = Obstacle::piece(
+            &self.world.pieces[self.target],
+            s.safety.obstacle_margin,
+            Role::Target,
+        );
+        let before: Vec<Obstacle> = scene.iter().cloned().chain([target]).collect();
+        let after: Vec<Obstacle> = scene
+            .iter()
+            .cloned()
+            .chain([Obstacle::piece(self.released, 0.0, Role::Obstacle)])
+            .collect();
+        let piece = &self.world.pieces[self.target];
+        let held = body(
+            r.model,
+            &r.kin,
+            format!("held {}", piece.name),
+            r.tool_link(self.arm),
+            piece.shape(),
+            self.rel,
+        );
+        let holding: Vec<Body> = r.bodies.iter().cloned().chain([held]).collect();
+        let n = self.sub.trajectory.points.len();
+        let (c, o) = (self.events.close_sample, self.events.open_sample);
+        let plans = [
+            (0, c, &before, &r.bodies),
+            (c, o, &scene, &holding),
+            (o, n - 1, &after, &r.bodies),
+        ];
+        let rest = &self.world.q;
+        let positions: Vec<&[f64]> = self
+            .sub
+            .trajectory
+            .points
+            .iter()
+            .map(|p| p.positions.as_slice())
+            .collect();
+        let times: Vec<f64> = self
+            .sub
+            .trajectory
+            .points
+            .iter()
+            .map(|p| p.time_from_start)
+            .collect();
+        let phases: Vec<Phase> = plans
+            .iter()
+            .map(|&(from, to, obstacles, bodies)| Phase {
+                kin: &r.kin,
+                bodies,
+                obstacles,
+                pairs: self.pairs(obstacles, bodies),
+                rest,
+                arm: &self.arm.joint_indices,
+                positions: &positions[from..=to],
+                times: &times[from..=to],
+                first_sample: from,
+            })
+            .collect();
+        let needed: usize = phases.iter().map(Phase::configurations).sum();
+        if needed > MAX_CONFIGURATIONS {
+            return Err(format!(
+                "the motion needs {needed} configurations to be checked at {} mm steps, more than the {MAX_CONFIGURATIONS} a sub-goal may need",
+                dense::STEP * 1e3
+            ));
+        }
+        let mut findings = Findings::new();
+        phases.iter().for_each(|p| p.run(&mut findings));
+        for (key, f) in &findings {
+            report.push(key.0, Some(k), dense::describe(key, f));
+        }
+        Ok(())
+    }
+
+    /// The pairs of a phase: every body against every obstacle (the fingers
+    /// not against the target), the self-collision pairs, and the held
+    /// object (last body, when present) against every link not rigid with
+    /// the tool.
+    fn pairs(&self, obstacles: &[Obstacle], bodies: &[Body]) -> Vec<Pair> {
+        let r = self.r;
+        let n_robot = r.bodies.len();
+        let mut pairs = Vec::new();
+        for (b, _) in bodies.iter().enumerate() {
+            for (o, obstacle) in obstacles.iter().enumerate() {
+                if obstacle.role == Role::Target && r.fingers[b] {
+                    continue;
+                }
+                pairs.push(Pair {
+                    body: b,
+                    other: Other::Obstacle(o),
+                    margin: obstacle.margin,
+                });
+            }
+        }
+        pairs.extend(r.self_pairs.iter().map(|&(a, b)| Pair {
+            body: a,
+            other: Other::Body(b),
+            margin: 0.0,
+        }));
+        if bodies.len() > n_robot {
+            let tool = &bodies[n_robot];
+            for (b, body) in r.bodies.iter().enumerate() {
+                let rigid = body
+                    .radii
+                    .iter()
+                    .zip(&tool.radii)
+                    .all(|(x, y)| (*x > 0.0) == (*y > 0.0));
+                if !rigid {
+                    pairs.push(Pair {
+                        body: n_robot,
+                        other: Other::Body(b),
+                        margin: 0.0,
+                    });
+                }
+            }
+        }
+        pairs
+    }
+}

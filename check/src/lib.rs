@@ -1,0 +1,54 @@
+//! # afford-check
+//!
+//! An independent gate for afford plans: reads a plan file (bounded, JSON or
+//! YAML) and re-checks everything a robot would execute against the
+//! scenario, sharing no code path with the planner's own checks. It uses
+//! afford-planner only for data types and scenario loading and
+//! afford-kinematics only for the robot description; forward kinematics is
+//! k's (from the URDF via urdf-rs 0.9), collisions are parry3d's on a scene
+//! rebuilt here from the scenario's pixel boxes.
+//!
+//! | what | module | class |
+//! |---|---|---|
+//! | reading the file, its bounds | [`file`](read_plan) | — |
+//! | names, sizes, values, times, gripper events | `format` | `format`, `gripper_events` |
+//! | the start state by the scenario's rule | `start` | `start`, `continuity` |
+//! | positions, velocities, accelerations, rest | `rates` | `position`, `velocity`, `acceleration`, `rest` |
+//! | tool speed near hands (ISO/TS 15066) | `tool_speed` | `tool_speed` |
+//! | dense collision check (1 mm steps) | `dense`, `bodies`, `scene`, `chain` | `penetration`, `margin`, `self_collision`, `target_touched` |
+//! | grasp width, release | `placement` | `gripper_opening`, `placement` |
+//!
+//! ```
+//! let scenario = afford_planner::scenario::default_scenario().unwrap();
+//! let robot = afford_kinematics::RobotModel::builtin("kuka_iiwa14").unwrap();
+//! let plan = afford_check::read_plan(r#"{"subgoals": []}"#).unwrap();
+//! let report = afford_check::check_plan(&scenario, &robot, &plan);
+//! assert_eq!(report.violations[0].class, afford_check::ViolationClass::Format);
+//! ```
+
+mod bodies;
+mod chain;
+mod check;
+mod dense;
+mod file;
+mod format;
+mod placement;
+mod rates;
+mod report;
+mod scene;
+mod start;
+mod tool_speed;
+
+pub use check::check_plan;
+pub use dense::{CONTACT_TOLERANCE, MAX_CONFIGURATIONS, STEP};
+pub use file::{
+    MAX_GRIPPER_EVENTS, MAX_JOINTS, MAX_PLAN_BYTES, MAX_SAMPLES, MAX_SUBGOALS, PlanFile,
+    PlanFileError, Sample, StartState, SubgoalFile, TrajectoryFile, read_plan,
+};
+pub use format::{EVENT_TIME_TOLERANCE, MAX_ABS_POSITION, MAX_ABS_RATE, MAX_TIME};
+pub use placement::PLACEMENT_TOLERANCE;
+pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
+pub use report::{Report, Violation, ViolationClass};
+pub use scene::{GOAL_WALL, TABLE_THICKNESS};
+pub use start::{START_TILT, START_TOLERANCE};
+pub use tool_speed::TOOL_SPEED_TOLERANCE;

@@ -1,0 +1,287 @@
+//! The scene rebuilt from the scenario file, in metres, robot base frame:
+//! every pixel box through `camera.pixel_to_base` to a footprint on the table
+//! (centre, size along the image axes, yaw of the image u axis), standing on
+//! `table_z` with its height. Objects are solid boxes whose pose the check
+//! tracks from sub-goal to sub-goal; hands are solid boxes; goals are open
+//! boxes (a floor and four walls [`GOAL_WALL`] thick, inside the footprint);
+//! the table is a slab [`TABLE_THICKNESS`] thick under the image's footprint.
+//!
+//! Margins (the safety perimeters a body must stay out of): other objects
+//! `obstacle_margin` (`sensitive_margin` when sensitive), hands
+//! `hand_margin`, other goals `obstacle_margin`, the sub-goal's own goal and
+//! the table 0 (touching still counts as penetration).
+
+use afford_planner::Scenario;
+use afford_planner::scenario::PixelBox;
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
+use parry3d::shape::SharedShape;
+
+use crate::chain::{Iso, to_parry};
+
+/// Wall and floor thickness of a goal box, m (the value of the collision
+/// crate's `GOAL_WALL`, copied: the boxes are the scenario's, not afford's).
+pub const GOAL_WALL: f64 = 0.005;
+/// Thickness of the table slab, m.
+pub const TABLE_THICKNESS: f64 = 0.02;
+
+/// A pixel box on the table in the base frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Footprint {
+    pub centre: [f64; 2],
+    /// Size along the footprint's own x (image u) and y axes, m.
+    pub size: [f64; 2],
+    /// Rotation of the footprint's x axis about the vertical.
+    pub yaw: f64,
+}
+
+impl Footprint {
+    pub(crate) fn of(s: &Scenario, b: PixelBox) -> Self {
+        let m = &s.camera.pixel_to_base;
+        let [mu, mv] = [m[0][0].hypot(m[1][0]), m[0][1].hypot(m[1][1])];
+        Self {
+            centre: s.pixel_to_base(b.centre()),
+            size: [b.w * mu, b.l * mv],
+            yaw: m[1][0].atan2(m[0][0]),
+        }
+    }
+
+    /// The footprint as a solid box from `z0` up `height`: its centre pose.
+    pub(crate) fn pose(&self, z0: f64, height: f64) -> Iso {
+        Iso::from_parts(
+            Translation3::new(self.centre[0], self.centre[1], z0 + 0.5 * height),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.yaw),
+        )
+    }
+
+    /// A point (x, y) in the footprint's own frame.
+    pub(crate) fn local(&self, [x, y]: [f64; 2]) -> [f64; 2] {
+        let (c, s) = (self.yaw.cos(), self.yaw.sin());
+        let (dx, dy) = (x - self.centre[0], y - self.centre[1]);
+        [c * dx + s * dy, -s * dx + c * dy]
+    }
+}
+
+/// A box the check tracks (an object of the scenario).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Piece {
+    pub name: String,
+    /// Pose of the box centre.
+    pub pose: Iso,
+    pub half: [f64; 3],
+    pub sensitive: bool,
+}
+
+impl Piece {
+    pub(crate) fn shape(&self) -> SharedShape {
+        SharedShape::cuboid(self.half[0], self.half[1], self.half[2])
+    }
+}
+
+/// The scenario's objects where the camera sees them.
+pub(crate) fn pieces(s: &Scenario) -> Vec<Piece> {
+    s.objects
+        .iter()
+        .map(|o| {
+            let f = Footprint::of(s, o.bbox);
+            Piece {
+                name: o.name.clone(),
+                pose: f.pose(s.camera.table_z, o.height),
+                half: [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * o.height],
+                sensitive: s.is_sensitive(o),
+            }
+        })
+        .collect()
+}
+
+/// What a body may hit, and what hitting it is called.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Role {
+    /// Ordinary obstacle: penetration / margin.
+    Obstacle,
+    /// The target before the grasp: only the fingers may come near.
+    Target,
+}
+
+/// One obstacle: its convex parts (parry pose and shape) and its margin.
+#[derive(Clone)]
+pub(crate) struct Obstacle {
+    pub name: String,
+    pub margin: f64,
+    pub role: Role,
+    pub parts: Vec<(parry3d::math::Pose, SharedShape)>,
+}
+
+impl Obstacle {
+    fn solid(name: &str, margin: f64, pose: &Iso, half: [f64; 3]) -> Self {
+        Self {
+            name: name.to_string(),
+            margin,
+            role: Role::Obstacle,
+            parts: vec![(
+                to_parry(pose),
+                SharedShape::cuboid(half[0], half[1], half[2]),
+            )],
+        }
+    }
+
+    pub(crate) fn piece(p: &Piece, margin: f64, role: Role) -> Self {
+        Self {
+            role,
+            ..Self::solid(&p.name, margin, &p.pose, p.half)
+        }
+    }
+}
+
+/// The scene of one sub-goal moving `target` into goal `goal`, without the
+/// target (the caller adds it with the role of the phase).
+pub(crate) fn obstacles(
+    s: &Scenario,
+    pieces: &[Piece],
+    target: usize,
+    goal: usize,
+) -> Vec<Obstacle> {
+    let safety = &s.safety;
+    let z0 = s.camera.table_z;
+    let mut out = vec![table(s)];
+    for (_, p) in pieces.iter().enumerate().filter(|&(i, _)| i != target) {
+        let margin = match p.sensitive {
+            true => safety.sensitive_margin,
+            false => safety.obstacle_margin,
+        };
+        out.push(Obstacle::piece(p, margin, Role::Obstacle));
+    }
+    for (i, g) in s.goals.iter().enumerate() {
+        let margin = if i == goal {
+            0.0
+        } else {
+            safety.obstacle_margin
+        };
+        out.push(open_box(
+            &g.name,
+            margin,
+            &Footprint::of(s, g.bbox),
+            z0,
+            g.height,
+        ));
+    }
+    for h in &s.hands {
+        let f = Footprint::of(s, h.bbox);
+        let half = [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * h.height];
+        out.push(Obstacle::solid(
+            &h.name,
+            safety.hand_margin,
+            &f.pose(z0, h.height),
+            half,
+        ));
+    }
+    out
+}
+
+/// The hands as solid boxes (footprint and height), for the tool-speed rule.
+pub(crate) fn hand_boxes(s: &Scenario) -> Vec<(String, Iso, [f64; 3])> {
+    s.hands
+        .iter()
+        .map(|h| {
+            let f = Footprint::of(s, h.bbox);
+            let half = [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * h.height];
+            (h.name.clone(), f.pose(s.camera.table_z, h.height), half)
+        })
+        .collect()
+}
+
+/// The table slab under the image's footprint.
+fn table(s: &Scenario) -> Obstacle {
+    let (w, h) = (s.camera.width as f64, s.camera.height as f64);
+    let corners = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]].map(|p| s.pixel_to_base(p));
+    let lo = [0, 1].map(|k| corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
+    let hi = [0, 1].map(|k| {
+        corners
+            .iter()
+            .map(|c| c[k])
+            .fold(f64::NEG_INFINITY, f64::max)
+    });
+    let z = s.camera.table_z - 0.5 * TABLE_THICKNESS;
+    let pose = Iso::translation(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), z);
+    let half = [
+        0.5 * (hi[0] - lo[0]),
+        0.5 * (hi[1] - lo[1]),
+        0.5 * TABLE_THICKNESS,
+    ];
+    Obstacle::solid("table", 0.0, &pose, half)
+}
+
+/// An open box: floor and four walls inside the footprint.
+fn open_box(name: &str, margin: f64, f: &Footprint, z0: f64, height: f64) -> Obstacle {
+    let [sx, sy] = f.size;
+    let w = 0.5 * GOAL_WALL;
+    let pieces = [
+        ([0.5 * sx, 0.5 * sy, w], [0.0, 0.0, w]),
+        (
+            [w, 0.5 * sy, 0.5 * height],
+            [0.5 * sx - w, 0.0, 0.5 * height],
+        ),
+        (
+            [w, 0.5 * sy, 0.5 * height],
+            [-0.5 * sx + w, 0.0, 0.5 * height],
+        ),
+        (
+            [(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height],
+            [0.0, 0.5 * sy - w, 0.5 * height],
+        ),
+        (
+            [(0.5 * sx - GOAL_WALL).max(w), w, 0.5 * height],
+            [0.0, -0.5 * sy + w, 0.5 * height],
+        ),
+    ];
+    let frame = f.pose(z0, 0.0);
+    let parts = pieces
+        .into_iter()
+        .map(|(half, local)| {
+            let pose = frame * Iso::translation(local[0], local[1], local[2]);
+            (
+                to_parry(&pose),
+                SharedShape::cuboid(half[0], half[1], half[2]),
+            )
+        })
+        .collect();
+    Obstacle {
+        name: name.to_string(),
+        margin,
+        role: Role::Obstacle,
+        parts,
+    }
+}
+
+/// Signed distance between two posed shapes: the gap when apart, minus the
+/// penetration depth when they overlap.
+pub(crate) fn signed_distance(
+    p1: &parry3d::math::Pose,
+    s1: &SharedShape,
+    p2: &parry3d::math::Pose,
+    s2: &SharedShape,
+) -> f64 {
+    let gap =
+        parry3d::query::distance(p1, s1.as_ref(), p2, s2.as_ref()).map_or(0.0, |d| d.distance);
+    if gap > 0.0 {
+        return gap;
+    }
+    parry3d::query::contact(p1, s1.as_ref(), p2, s2.as_ref(), 0.0)
+        .ok()
+        .flatten()
+        .map_or(0.0, |c| c.dist.min(0.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn signed_distance_is_negative_inside() {
+        let a = SharedShape::cuboid(0.1, 0.1, 0.1);
+        let here = to_parry(&Iso::identity());
+        let apart = to_parry(&Iso::translation(0.25, 0.0, 0.0));
+        let inside = to_parry(&Iso::translation(0.15, 0.0, 0.0));
+        assert!((signed_distance(&here, &a, &apart, &a) - 0.05).abs() < 1e-9);
+        assert!((signed_distance(&here, &a, &inside, &a) + 0.05).abs() < 1e-9);
+    }
+}
