@@ -11,6 +11,7 @@
 //! k's types stay in the `kchain` module.
 
 mod bench;
+pub mod bounds;
 mod builtin;
 mod chain;
 mod choose;

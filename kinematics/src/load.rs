@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::bounds::{self, *};
 use crate::builtin;
 use crate::chain::{Chain, ChainJoint, Motion};
 use crate::description::{self, Description};
@@ -74,13 +75,22 @@ impl RobotModel {
             path.to_path_buf()
         };
         let read = |p: &Path| {
-            std::fs::read_to_string(p).map_err(|source| KinematicsError::Io {
+            use std::io::Read;
+            let io = |source| KinematicsError::Io {
                 file: p.to_path_buf(),
                 source,
-            })
+            };
+            // One byte more than allowed: the parsers refuse a larger file.
+            let mut text = String::new();
+            std::fs::File::open(p)
+                .map_err(io)?
+                .take(MAX_FILE_BYTES + 1)
+                .read_to_string(&mut text)
+                .map_err(io)?;
+            Ok(text)
         };
         let description_text = read(&description_path)?;
-        let description = description::parse(&description_text, &description_path)?;
+        let description = parse_description(&description_text, &description_path)?;
         let urdf_path = description_path
             .parent()
             .unwrap_or_else(|| Path::new("."))
@@ -100,11 +110,31 @@ impl RobotModel {
         urdf_text: &str,
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
-        let description = description::parse(description_yaml, description_file)?;
+        let description = parse_description(description_yaml, description_file)?;
         let tree = urdf::parse(urdf_text, urdf_file)?;
         let mut model = assemble(&tree, &description, description_file)?;
         model.source = description_file.display().to_string();
         Ok(model)
+    }
+}
+
+/// Parses a description after checking its size ([`MAX_FILE_BYTES`]).
+fn parse_description(text: &str, file: &Path) -> Result<Description, KinematicsError> {
+    bounds::check_file_size(text.len() as u64).map_err(|problem| {
+        KinematicsError::DescriptionElement {
+            file: file.to_path_buf(),
+            element: "afford_robot".into(),
+            problem,
+        }
+    })?;
+    description::parse(text, file)
+}
+
+/// Largest magnitude of a joint value of this kind (`home`, `park`).
+fn largest_value(kind: JointKind) -> Real {
+    match kind {
+        JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
+        _ => MAX_REVOLUTE_LIMIT_RAD,
     }
 }
 
@@ -114,6 +144,13 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         element,
         problem,
     };
+    for (name, value) in [
+        ("max_opening", d.gripper.max_opening),
+        ("finger_length", d.gripper.finger_length),
+    ] {
+        bounds::check_range("the size", value, (0.0, MAX_GRIPPER_SIZE_M))
+            .map_err(|problem| err(format!("gripper.{name}"), problem))?;
+    }
     // Movable joints in tree order form the configuration.
     let mut joints = Vec::new();
     let mut links = Vec::with_capacity(tree.links.len());
@@ -130,6 +167,14 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     return Err(err(
                         format!("acceleration_limits.{}", j.name),
                         "missing or not positive: give a limit here or in the URDF <limit acceleration=..>".into(),
+                    ));
+                }
+                bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
+                    .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
+                if joints.len() == MAX_MOVABLE_JOINTS {
+                    return Err(err(
+                        "urdf".into(),
+                        format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
                     ));
                 }
                 joints.push(Joint {
@@ -171,7 +216,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
             .get(&j.name)
             .copied()
             .unwrap_or_else(|| 0.0f64.clamp(j.lower, j.upper));
-        if !j.within(v, 1e-9) {
+        if !j.within(v, 1e-9) || !(v.abs() <= largest_value(j.kind)) {
             return Err(err(
                 format!("home.{}", j.name),
                 format!("{v} is outside the joint limits {} .. {}", j.lower, j.upper),
@@ -290,7 +335,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     "is not a movable joint of the URDF".into(),
                 )
             })?;
-            if !joints[i].within(v, 1e-9) {
+            if !joints[i].within(v, 1e-9) || !(v.abs() <= largest_value(joints[i].kind)) {
                 return Err(err(
                     format!("arms[{ai}].park.{name}"),
                     format!("{v} is outside the joint limits"),

@@ -2,20 +2,22 @@
 
 use std::fmt::Write;
 
+use afford_kinematics::RobotModel;
 use afford_planner::grid::{GridRequest, StateGrid};
 use afford_planner::instruction::subgoals;
 use afford_planner::scenario::Scenario;
 
-use super::plan::load;
+use super::output::print;
+use super::plan::{load, load_robot};
 use super::{Failure, ValidateArgs};
 
 pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
     let scenario = load(args.scenario.as_deref())?;
-    print!("{}", explain(&scenario, args.seed));
-    Ok(())
+    let robot = load_robot(&scenario, args.scenario.as_deref())?;
+    print(&explain(&scenario, &robot, args.seed))
 }
 
-fn explain(s: &Scenario, seed: u64) -> String {
+fn explain(s: &Scenario, robot: &RobotModel, seed: u64) -> String {
     let mut out = String::new();
     let [mu, mv] = s.metres_per_pixel();
     let px = |m: f64| m / mu.max(mv);
@@ -35,8 +37,18 @@ fn explain(s: &Scenario, seed: u64) -> String {
     );
     let _ = writeln!(
         out,
-        "robot: {}, gripper at pixel ({}, {})",
-        s.robot.model, s.robot.start[0], s.robot.start[1]
+        "robot: {} ({}, {} DOF, arms {}), gripper at pixel ({}, {})",
+        s.robot.model,
+        robot.name(),
+        robot.dof(),
+        robot
+            .arms()
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        s.robot.start[0],
+        s.robot.start[1]
     );
     let _ = writeln!(out, "objects: {}", s.objects.len());
     for o in &s.objects {

@@ -76,8 +76,8 @@ mod run;
 
 pub use bench::{TimingBenchReport, TimingBenchSettings, timing_benchmark};
 pub use run::{
-    JointLimits, Proximity, SeparationSummary, SolveStats, Timing, TimingError, TimingSettings,
-    TimingStatus, time_parameterize,
+    JointLimits, MAX_SAMPLES, Proximity, SeparationSummary, SolveStats, Timing, TimingError,
+    TimingSettings, TimingStatus, time_parameterize,
 };
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};
