@@ -67,5 +67,7 @@ pub(crate) fn check_range(what: &str, value: f64, (lo, hi): (f64, f64)) -> Resul
     if value.is_finite() && (lo..=hi).contains(&value) {
         return Ok(());
     }
-    Err(format!("{what} must be between {lo} and {hi}, got {value}"))
+    Err(format!(
+        "{what} must be between {lo} and {hi}, got {value:?}"
+    ))
 }

@@ -303,7 +303,7 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
             return Err(element_error(
                 file,
                 el(),
-                format!("<limit {what}> must be within ±{largest:.4}, got {value}"),
+                format!("<limit {what}> must be within ±{largest:.4}, got {value:?}"),
             ));
         }
     }

@@ -234,10 +234,10 @@ fn check_safety(s: &Scenario, push: &mut Push) {
     // Every field is a number in m, s, m/s or m/s²: one upper bound for all.
     let fields = serde_json::to_value(separation).unwrap_or_default();
     for (field, value) in fields.as_object().into_iter().flatten() {
-        if value.as_f64().is_some_and(|v| v > MAX_SEPARATION_VALUE) {
+        if let Some(v) = value.as_f64().filter(|&v| v > MAX_SEPARATION_VALUE) {
             push(
                 format!("safety.separation.{field}"),
-                format!("must be at most {MAX_SEPARATION_VALUE}, got {value}"),
+                format!("must be at most {MAX_SEPARATION_VALUE}, got {v:?}"),
             );
         }
     }
