@@ -138,12 +138,12 @@ impl TimingSettings {
     }
 }
 
-/// Most samples one timed path may hold (`duration × rate + 1`): 2 minutes
-/// at 100 Hz, 12 s at 1 kHz. A longer path is refused with
+/// Most samples one timed path may hold (`duration × rate + 1`): 100 s at
+/// 100 Hz, 10 s at 1 kHz. A longer path is refused with
 /// [`TimingError::TooManySamples`] before any sample is allocated, so the
 /// trajectory's memory is bounded whatever the limits and the rate
 /// (README "Limits").
-pub const MAX_SAMPLES: usize = 12_000;
+pub const MAX_SAMPLES: usize = 10_000;
 
 /// Bad input to the timing stage.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
