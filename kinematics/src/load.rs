@@ -130,12 +130,15 @@ fn parse_description(text: &str, file: &Path) -> Result<Description, KinematicsE
     description::parse(text, file)
 }
 
-/// Largest magnitude of a joint value of this kind (`home`, `park`).
-fn largest_value(kind: JointKind) -> Real {
-    match kind {
+/// True when a joint value (`home`, `park`) is finite and within the bound
+/// of its kind: [`MAX_PRISMATIC_LIMIT_M`] or [`MAX_REVOLUTE_LIMIT_RAD`]
+/// (continuous joints too, which have no limits of their own).
+fn value_in_bounds(kind: JointKind, v: Real) -> bool {
+    let largest = match kind {
         JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
         _ => MAX_REVOLUTE_LIMIT_RAD,
-    }
+    };
+    v.is_finite() && v.abs() <= largest
 }
 
 fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, KinematicsError> {
@@ -216,7 +219,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
             .get(&j.name)
             .copied()
             .unwrap_or_else(|| 0.0f64.clamp(j.lower, j.upper));
-        if !j.within(v, 1e-9) || !(v.abs() <= largest_value(j.kind)) {
+        if !j.within(v, 1e-9) || !value_in_bounds(j.kind, v) {
             return Err(err(
                 format!("home.{}", j.name),
                 format!("{v} is outside the joint limits {} .. {}", j.lower, j.upper),
@@ -335,7 +338,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     "is not a movable joint of the URDF".into(),
                 )
             })?;
-            if !joints[i].within(v, 1e-9) || !(v.abs() <= largest_value(joints[i].kind)) {
+            if !joints[i].within(v, 1e-9) || !value_in_bounds(joints[i].kind, v) {
                 return Err(err(
                     format!("arms[{ai}].park.{name}"),
                     format!("{v} is outside the joint limits"),

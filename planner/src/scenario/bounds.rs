@@ -122,6 +122,11 @@ pub const MEMORY_BOUND_BYTES: usize = MAX_GRID_CELLS * BYTES_PER_CELL
     + (MAX_FILE_BYTES as usize) * MAX_OBJECTS
     + (256 << 20);
 
+// A held object always keeps a body above its support slice, and the
+// documented memory bound stays what README "Limits" says (under 4.5 GiB).
+const _: () = assert!(MIN_HEIGHT_M > crate::clearance::SUPPORT_GAP);
+const _: () = assert!(MEMORY_BOUND_BYTES < 9 << 29);
+
 /// Checks a controller rate (Hz): finite, within
 /// [`MIN_RATE_HZ`]..=[`MAX_RATE_HZ`]. `Err` says what is wrong.
 pub fn check_rate(rate_hz: f64) -> Result<(), String> {
@@ -160,16 +165,6 @@ pub fn clause_count_bound(instruction: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn min_height_leaves_a_held_object_a_body() {
-        assert!(MIN_HEIGHT_M > crate::clearance::SUPPORT_GAP);
-    }
-
-    #[test]
-    fn memory_bound_is_below_four_and_a_half_gigabytes() {
-        assert!(MEMORY_BOUND_BYTES < 9 << 29, "{MEMORY_BOUND_BYTES}");
-    }
 
     #[test]
     fn grid_bound_covers_the_built_grid_wherever_the_target_lies() {
