@@ -30,8 +30,9 @@ use serde::{Deserialize, Serialize};
 use crate::error::KinematicsError;
 use crate::math::Real;
 
-/// Longest gripper closing or opening time accepted, s.
-pub const MAX_GRIPPER_TIME: Real = 10.0;
+/// Longest gripper closing or opening time accepted, s (grippers take well
+/// under a second; the bound keeps the samples of a rest bounded).
+pub const MAX_GRIPPER_TIME: Real = 2.0;
 
 /// The format version this build reads.
 pub const DESCRIPTION_FORMAT: u32 = 1;

@@ -12,6 +12,7 @@
 
 mod adjacency;
 mod bench;
+pub mod bounds;
 mod builtin;
 mod chain;
 mod choose;

@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::bounds::{self, *};
 use crate::builtin;
 use crate::chain::{Chain, ChainJoint, Motion};
 use crate::description::{self, AllowedReason, Description};
@@ -74,13 +75,22 @@ impl RobotModel {
             path.to_path_buf()
         };
         let read = |p: &Path| {
-            std::fs::read_to_string(p).map_err(|source| KinematicsError::Io {
+            use std::io::Read;
+            let io = |source| KinematicsError::Io {
                 file: p.to_path_buf(),
                 source,
-            })
+            };
+            // One byte more than allowed: the parsers refuse a larger file.
+            let mut text = String::new();
+            std::fs::File::open(p)
+                .map_err(io)?
+                .take(MAX_FILE_BYTES + 1)
+                .read_to_string(&mut text)
+                .map_err(io)?;
+            Ok(text)
         };
         let description_text = read(&description_path)?;
-        let description = description::parse(&description_text, &description_path)?;
+        let description = parse_description(&description_text, &description_path)?;
         let urdf_path = description_path
             .parent()
             .unwrap_or_else(|| Path::new("."))
@@ -101,7 +111,7 @@ impl RobotModel {
         urdf_text: &str,
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
-        let description = description::parse(description_yaml, description_file)?;
+        let description = parse_description(description_yaml, description_file)?;
         let tree = urdf::parse(urdf_text, urdf_file)?;
         let mut model = assemble(&tree, &description, description_file)?;
         model.source = description_file.display().to_string();
@@ -110,12 +120,42 @@ impl RobotModel {
     }
 }
 
+/// Parses a description after checking its size ([`MAX_FILE_BYTES`]).
+fn parse_description(text: &str, file: &Path) -> Result<Description, KinematicsError> {
+    bounds::check_file_size(text.len() as u64).map_err(|problem| {
+        KinematicsError::DescriptionElement {
+            file: file.to_path_buf(),
+            element: "afford_robot".into(),
+            problem,
+        }
+    })?;
+    description::parse(text, file)
+}
+
+/// True when a joint value (`home`, `park`) is finite and within the bound
+/// of its kind: [`MAX_PRISMATIC_LIMIT_M`] or [`MAX_REVOLUTE_LIMIT_RAD`]
+/// (continuous joints too, which have no limits of their own).
+fn value_in_bounds(kind: JointKind, v: Real) -> bool {
+    let largest = match kind {
+        JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
+        _ => MAX_REVOLUTE_LIMIT_RAD,
+    };
+    v.is_finite() && v.abs() <= largest
+}
+
 fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, KinematicsError> {
     let err = |element: String, problem: String| KinematicsError::DescriptionElement {
         file: PathBuf::from(file),
         element,
         problem,
     };
+    for (name, value) in [
+        ("max_opening", d.gripper.max_opening),
+        ("finger_length", d.gripper.finger_length),
+    ] {
+        bounds::check_range("the size", value, (0.0, MAX_GRIPPER_SIZE_M))
+            .map_err(|problem| err(format!("gripper.{name}"), problem))?;
+    }
     // Movable joints in tree order form the configuration.
     let mut joints = Vec::new();
     let mut links = Vec::with_capacity(tree.links.len());
@@ -132,6 +172,14 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     return Err(err(
                         format!("acceleration_limits.{}", j.name),
                         "missing or not positive: give a limit here or in the URDF <limit acceleration=..>".into(),
+                    ));
+                }
+                bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
+                    .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
+                if joints.len() == MAX_MOVABLE_JOINTS {
+                    return Err(err(
+                        "urdf".into(),
+                        format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
                     ));
                 }
                 joints.push(Joint {
@@ -173,7 +221,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
             .get(&j.name)
             .copied()
             .unwrap_or_else(|| 0.0f64.clamp(j.lower, j.upper));
-        if !j.within(v, 1e-9) {
+        if !j.within(v, 1e-9) || !value_in_bounds(j.kind, v) {
             return Err(err(
                 format!("home.{}", j.name),
                 format!("{v} is outside the joint limits {} .. {}", j.lower, j.upper),
@@ -292,7 +340,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     "is not a movable joint of the URDF".into(),
                 )
             })?;
-            if !joints[i].within(v, 1e-9) {
+            if !joints[i].within(v, 1e-9) || !value_in_bounds(joints[i].kind, v) {
                 return Err(err(
                     format!("arms[{ai}].park.{name}"),
                     format!("{v} is outside the joint limits"),

@@ -6,6 +6,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use crate::bounds::{self, *};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real, Vec3, pose_from_xyz_rpy};
 use crate::model::{Collider, JointKind, Shape};
@@ -53,18 +54,47 @@ fn element_error(file: &Path, element: String, problem: impl Into<String>) -> Ki
     }
 }
 
-fn finite3(v: &[Real; 3]) -> bool {
-    v.iter().all(|x| x.is_finite())
+/// `Err` with the problem when an `<origin>` is not finite or farther than
+/// [`MAX_OFFSET_M`] / turned more than [`MAX_ORIGIN_ANGLE_RAD`].
+fn check_origin(xyz: &[Real; 3], rpy: &[Real; 3]) -> Result<(), String> {
+    if !xyz.iter().chain(rpy).all(|x| x.is_finite()) {
+        return Err("<origin> holds a non-finite number".into());
+    }
+    if xyz.iter().any(|x| x.abs() > MAX_OFFSET_M) {
+        return Err(format!(
+            "<origin xyz> is more than {MAX_OFFSET_M} m from its parent frame"
+        ));
+    }
+    if rpy.iter().any(|x| x.abs() > MAX_ORIGIN_ANGLE_RAD) {
+        return Err(format!(
+            "<origin rpy> angles must be within {MAX_ORIGIN_ANGLE_RAD:.4} rad"
+        ));
+    }
+    Ok(())
 }
 
 /// Parses and validates URDF text; `file` is only used in error messages.
 pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
+    bounds::check_file_size(text.len() as u64)
+        .map_err(|problem| element_error(file, "<robot>".into(), problem))?;
     let robot = urdf_rs::read_from_string(text).map_err(|e| KinematicsError::UrdfSyntax {
         file: file.to_path_buf(),
         message: e.to_string(),
     })?;
     if robot.links.is_empty() {
         return Err(element_error(file, "<robot>".into(), "has no <link>"));
+    }
+    for (what, count, max) in [
+        ("<link>", robot.links.len(), MAX_LINKS),
+        ("<joint>", robot.joints.len(), MAX_JOINTS),
+    ] {
+        if count > max {
+            return Err(element_error(
+                file,
+                "<robot>".into(),
+                format!("has {count} {what} elements; at most {max} are supported"),
+            ));
+        }
     }
     let mut link_index: HashMap<&str, usize> = HashMap::new();
     for (i, link) in robot.links.iter().enumerate() {
@@ -166,6 +196,13 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
     let mut links = Vec::with_capacity(order.len());
     for &li in &order {
         let link = &robot.links[li];
+        if link.collision.len() > MAX_COLLIDERS_PER_LINK {
+            return Err(element_error(
+                file,
+                format!("link '{}'", link.name),
+                format!("has more than {MAX_COLLIDERS_PER_LINK} <collision> elements"),
+            ));
+        }
         let colliders = link
             .collision
             .iter()
@@ -200,13 +237,7 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
         ));
     }
     let (xyz, rpy) = (j.origin.xyz.0, j.origin.rpy.0);
-    if !finite3(&xyz) || !finite3(&rpy) {
-        return Err(element_error(
-            file,
-            el(),
-            "<origin> holds a non-finite number",
-        ));
-    }
+    check_origin(&xyz, &rpy).map_err(|problem| element_error(file, el(), problem))?;
     let kind = match j.joint_type {
         urdf_rs::JointType::Fixed => JointKind::Fixed,
         urdf_rs::JointType::Revolute => JointKind::Revolute,
@@ -262,12 +293,22 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
             (lim.lower, lim.upper)
         }
     };
-    if kind != JointKind::Fixed && !(lim.velocity.is_finite() && lim.velocity > 0.0) {
-        return Err(element_error(
-            file,
-            el(),
-            format!("<limit velocity> must be positive, got {}", lim.velocity),
-        ));
+    if kind != JointKind::Fixed {
+        bounds::check_range("<limit velocity>", lim.velocity, VELOCITY_LIMIT_RANGE)
+            .map_err(|problem| element_error(file, el(), problem))?;
+    }
+    let largest = match kind {
+        JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
+        _ => MAX_REVOLUTE_LIMIT_RAD,
+    };
+    for (what, value) in [("lower", lower), ("upper", upper)] {
+        if value.is_finite() && value.abs() > largest {
+            return Err(element_error(
+                file,
+                el(),
+                format!("<limit {what}> must be within ±{largest:.4}, got {value:?}"),
+            ));
+        }
     }
     if j.mimic.is_some() {
         return Err(element_error(
@@ -297,14 +338,8 @@ fn collider(
 ) -> Result<Collider, KinematicsError> {
     let el = || format!("link '{link}' <collision> #{}", index + 1);
     let (xyz, rpy) = (c.origin.xyz.0, c.origin.rpy.0);
-    if !finite3(&xyz) || !finite3(&rpy) {
-        return Err(element_error(
-            file,
-            el(),
-            "<origin> holds a non-finite number",
-        ));
-    }
-    let positive = |v: Real| v.is_finite() && v > 0.0;
+    check_origin(&xyz, &rpy).map_err(|problem| element_error(file, el(), problem))?;
+    let positive = |v: Real| v.is_finite() && (MIN_SHAPE_SIZE_M..=MAX_SHAPE_SIZE_M).contains(&v);
     let shape = match &c.geometry {
         urdf_rs::Geometry::Box { size } if size.0.iter().all(|&s| positive(s)) => Shape::Box {
             half_extents: Vec3::from(size.0) / 2.0,
@@ -318,7 +353,7 @@ fn collider(
             }
         }
         urdf_rs::Geometry::Capsule { radius, length }
-            if positive(*radius) && length.is_finite() && *length >= 0.0 =>
+            if positive(*radius) && (*length == 0.0 || positive(*length)) =>
         {
             Shape::Capsule {
                 radius: *radius,
@@ -341,7 +376,9 @@ fn collider(
             return Err(element_error(
                 file,
                 el(),
-                "geometry sizes must be positive and finite",
+                format!(
+                    "geometry sizes must be between {MIN_SHAPE_SIZE_M} and {MAX_SHAPE_SIZE_M} m"
+                ),
             ));
         }
     };

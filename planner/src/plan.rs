@@ -201,6 +201,9 @@ impl Planner {
     /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
     pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
         let options = &self.options;
+        // A scenario built in code has not been through the file checks:
+        // every size bound holds before any work starts.
+        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
         let mut timings = StageTimings::default();
         let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
         let spec = &scenario.robot;

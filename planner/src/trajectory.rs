@@ -173,7 +173,7 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
             .map_err(|e| e.to_string())?;
         let trajectory = timing
             .trajectory
-            .ok_or_else(|| format!("timing failed: {:?}", timing.status))?;
+            .ok_or_else(|| format!("timing failed: {}", timing.status))?;
         append(&mut motion, trajectory);
         if let Some((command, duration)) = event {
             let start = motion.duration();

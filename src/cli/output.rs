@@ -24,16 +24,25 @@ pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, F
         })
 }
 
+/// Writes `text` to standard output. A reader that stops early (`| head`)
+/// closes the pipe: that is not an error, the rest is dropped quietly.
+/// Every command prints through here, never with `print!` (which panics on
+/// a closed pipe).
+pub fn print(text: &str) -> Result<(), Failure> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::new(
+            ExitKind::CouldNotPlan,
+            format!("cannot write to standard output: {e}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Writes `text` to `path` atomically, or to stdout when `path` is `None`.
 pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
     let Some(path) = path else {
-        return match std::io::stdout().write_all(text.as_bytes()) {
-            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::new(
-                ExitKind::CouldNotPlan,
-                format!("cannot write to standard output: {e}"),
-            )),
-            _ => Ok(()), // a reader that stops early (`| head`) is not an error
-        };
+        return print(text);
     };
     let bad = |e: std::io::Error| {
         Failure::new(

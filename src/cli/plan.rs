@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use afford_kinematics::RobotModel;
-use afford_planner::scenario::{self, Scenario};
+use afford_planner::scenario::{self, Scenario, bounds};
 use afford_planner::timing::TimingSettings;
 use afford_planner::{PlanError, PlanOptions, plan};
 
@@ -11,7 +11,10 @@ use super::output::{emit, render, render_csv};
 use super::{ExitKind, Failure, OutputFormat, PlanArgs};
 
 pub fn run(args: &PlanArgs) -> Result<(), Failure> {
+    bounds::check_rate(args.rate)
+        .map_err(|problem| Failure::new(ExitKind::BadInput, format!("--rate: {problem}")))?;
     let mut scenario = load(args.scenario.as_deref())?;
+    let robot = load_robot(&scenario, args.scenario.as_deref())?;
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args));
     }
@@ -40,8 +43,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     };
     emit(&text, args.output.as_deref())?;
     if let Some(svg) = &args.svg {
-        let robot = RobotModel::load(&scenario.robot.model, &options.base_dir).ok();
-        let picture = afford::picture::plan_svg(&scenario, &plan, robot.as_ref()).map_err(|e| {
+        let picture = afford::picture::plan_svg(&scenario, &plan, Some(&robot)).map_err(|e| {
             Failure::new(ExitKind::CouldNotPlan, format!("cannot draw the plan: {e}"))
         })?;
         emit(&picture, Some(svg))?;
@@ -69,6 +71,18 @@ pub fn base_dir(scenario: Option<&Path>) -> PathBuf {
         .and_then(Path::parent)
         .map(Path::to_path_buf)
         .unwrap_or_default()
+}
+
+/// The scenario's robot (`robot.model`), loaded as `plan` would: an unknown
+/// model or a broken description is bad input, named by field.
+pub fn load_robot(scenario: &Scenario, path: Option<&Path>) -> Result<RobotModel, Failure> {
+    RobotModel::load(&scenario.robot.model, &base_dir(path)).map_err(|e| {
+        let file = path.map_or_else(
+            || scenario::DEFAULT_SCENARIO_NAME.to_string(),
+            |p| p.display().to_string(),
+        );
+        Failure::new(ExitKind::BadInput, format!("{file}: robot.model: {e}"))
+    })
 }
 
 /// The scenario from the file argument, or the embedded default.

@@ -1,27 +1,28 @@
 //! `afford robots`: the built-in robots, their arms, DOF and reach; `afford
 //! robots acm`: a robot's allowed-collision matrix (afford-collision `acm`).
 
+use std::fmt::Write;
 use std::path::Path;
 
 use afford_collision::{AcmSettings, AllowedCollisionMatrix};
 use afford_kinematics::RobotModel;
 
+use super::output::print;
 use super::{AcmArgs, ExitKind, Failure, RobotsArgs};
 
 pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
     let robots = afford_kinematics::builtin_robots()
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&robots).expect("robot list serialises")
-        );
-        return Ok(());
+        let json = serde_json::to_string_pretty(&robots).expect("robot list serialises");
+        return print(&(json + "\n"));
     }
+    let mut out = String::new();
     for robot in &robots {
-        println!("{} ({} DOF)", robot.name, robot.dof);
+        let _ = writeln!(out, "{} ({} DOF)", robot.name, robot.dof);
         for arm in &robot.arms {
-            println!(
+            let _ = writeln!(
+                out,
                 "  arm {:<6} {} DOF, reach ≤ {:.3} m, tool {}, joints {}",
                 arm.name,
                 arm.dof,
@@ -31,7 +32,7 @@ pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
             );
         }
     }
-    Ok(())
+    print(&out)
 }
 
 /// Derives the matrix of a built-in robot or a description file and prints

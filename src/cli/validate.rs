@@ -10,20 +10,25 @@ use afford_planner::lift::LiftSettings;
 use afford_planner::scenario::Scenario;
 use afford_planner::start::{self, FirstSubgoal};
 
-use super::plan::{base_dir, load};
+use super::output::print;
+use super::plan::{load, load_robot};
 use super::{ExitKind, Failure, ValidateArgs};
 
 pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
     let scenario = load(args.scenario.as_deref())?;
-    let gripper = gripper_pixel(&scenario, args)?;
-    print!("{}", explain(&scenario, gripper, args.seed));
-    Ok(())
+    let robot = load_robot(&scenario, args.scenario.as_deref())?;
+    let gripper = gripper_pixel(&scenario, &robot, args)?;
+    print(&explain(&scenario, &robot, gripper, args.seed))
 }
 
-/// Where the gripper is in the image. `robot.start` alone needs no robot;
-/// otherwise the robot is loaded and `robot.joints` checked against it, as
-/// `afford plan` does (bad input: exit 2, field named).
-fn gripper_pixel(s: &Scenario, args: &ValidateArgs) -> Result<[f64; 2], Failure> {
+/// Where the gripper is in the image: `robot.start` when it is given alone;
+/// otherwise from `robot.joints` (checked against the robot) or the home
+/// rule, as `afford plan` does (bad input: exit 2, field named).
+fn gripper_pixel(
+    s: &Scenario,
+    robot: &RobotModel,
+    args: &ValidateArgs,
+) -> Result<[f64; 2], Failure> {
     let file = args.scenario.as_ref().map_or_else(
         || afford_planner::scenario::DEFAULT_SCENARIO_NAME.to_string(),
         |p| p.display().to_string(),
@@ -31,9 +36,6 @@ fn gripper_pixel(s: &Scenario, args: &ValidateArgs) -> Result<[f64; 2], Failure>
     if let (Some(start), None) = (s.robot.start, &s.robot.joints) {
         return Ok(start);
     }
-    let bad = |message: String| Failure::new(ExitKind::BadInput, message);
-    let robot = RobotModel::load(&s.robot.model, &base_dir(args.scenario.as_deref()))
-        .map_err(|e| bad(format!("robot: {e}")))?;
     let Some(object) = subgoals(s, args.seed)
         .ok()
         .and_then(|goals| s.object_index(&goals.first()?.object))
@@ -41,17 +43,17 @@ fn gripper_pixel(s: &Scenario, args: &ValidateArgs) -> Result<[f64; 2], Failure>
         return Ok(s.robot.start.unwrap_or_default());
     };
     let first = FirstSubgoal::moving(s, object, &LiftSettings::default());
-    let state = start::resolve(s, &robot, &first, &IkSettings::default()).map_err(|issues| {
+    let state = start::resolve(s, robot, &first, &IkSettings::default()).map_err(|issues| {
         let e = PlanError::RobotState {
             robot: robot.name().to_string(),
             issues,
         };
-        bad(format!("{file}: {e}"))
+        Failure::new(ExitKind::BadInput, format!("{file}: {e}"))
     })?;
     Ok(state.gripper_px)
 }
 
-fn explain(s: &Scenario, gripper: [f64; 2], seed: u64) -> String {
+fn explain(s: &Scenario, robot: &RobotModel, gripper: [f64; 2], seed: u64) -> String {
     let mut out = String::new();
     let [mu, mv] = s.metres_per_pixel();
     let px = |m: f64| m / mu.max(mv);
@@ -71,8 +73,16 @@ fn explain(s: &Scenario, gripper: [f64; 2], seed: u64) -> String {
     );
     let _ = writeln!(
         out,
-        "robot: {}, gripper at pixel ({:.1}, {:.1}){}",
+        "robot: {} ({}, {} DOF, arms {}), gripper at pixel ({:.1}, {:.1}){}",
         s.robot.model,
+        robot.name(),
+        robot.dof(),
+        robot
+            .arms()
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
         gripper[0],
         gripper[1],
         match (&s.robot.joints, s.robot.start) {

@@ -186,3 +186,109 @@ fn robots_acm_prints_the_allowed_collisions_block_for_builtin_and_user_robots() 
     zero.assert_code(2);
     assert_contains_all("--samples 0", &zero.stderr, &["samples", "1 ..="]);
 }
+
+/// Runs `afford args` with its stdout a pipe whose reading end is already
+/// closed, as in `afford validate | head` once head has exited.
+fn with_closed_stdout(args: &[&str]) -> crate::util::Run {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_afford"))
+        .args(args)
+        .current_dir(crate::util::repo())
+        .env_remove("RUST_BACKTRACE")
+        .stdout(writer)
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .expect("run the afford binary");
+    crate::util::Run {
+        command: format!("afford {} | (closed)", args.join(" ")),
+        code: output.status.code(),
+        stdout: String::new(),
+        stderr: String::from_utf8(output.stderr).expect("stderr is UTF-8"),
+    }
+}
+
+#[test]
+fn closed_stdout_pipe_does_not_panic() {
+    for args in [
+        &["validate"][..],
+        &["plan", "--until", "grid"],
+        &["plan", "--until", "grid", "--format", "csv"],
+        &["robots"],
+        &["robots", "--json"],
+    ] {
+        let run = with_closed_stdout(args);
+        run.assert_no_panic();
+        // A reader that stops early is not an error: quiet, and the exit
+        // code is the command's own (csv without trajectories is bad input).
+        let expected = if args.contains(&"csv") { 2 } else { 0 };
+        run.assert_code(expected);
+        if expected == 0 {
+            assert!(run.stderr.is_empty(), "{}: {}", run.command, run.stderr);
+        }
+    }
+}
+
+#[test]
+fn rate_out_of_range_is_bad_input() {
+    for rate in ["0", "nan", "-1", "1e-300", "0.5", "1e6", "1e9", "inf"] {
+        let flag = format!("--rate={rate}");
+        let run = afford(&["plan", "--until", "grid", &flag]);
+        run.assert_code(2).assert_no_panic();
+        assert_contains_all(
+            &run.command,
+            &run.stderr,
+            &["--rate", "between 1 and 1000 Hz"],
+        );
+        assert!(run.stdout.is_empty(), "{}: printed a plan", run.command);
+    }
+    afford(&["plan", "--until", "grid", "--rate", "1000"])
+        .assert_code(0)
+        .assert_no_panic();
+}
+
+#[test]
+fn unknown_robot_model_is_bad_input_for_validate_and_plan() {
+    let dir = crate::util::scratch_dir("unknown-robot-model");
+    let text = std::fs::read_to_string(crate::util::fixture("valid/minimal.yaml"))
+        .unwrap()
+        .replace("model: kuka_iiwa14", "model: kuka_iiwa15");
+    let path = dir.join("unknown-robot.yaml");
+    std::fs::write(&path, text).unwrap();
+    for (command, after) in [("validate", &[][..]), ("plan", &["--until", "grid"][..])] {
+        let run = crate::util::afford_with_path(&[command], &path, after);
+        run.assert_code(2).assert_no_panic();
+        assert_contains_all(
+            &run.command,
+            &run.stderr,
+            &["unknown-robot.yaml", "robot.model", "kuka_iiwa15"],
+        );
+    }
+}
+
+#[test]
+fn user_robot_with_a_1e308_m_shape_is_bad_input() {
+    let dir = crate::util::scratch_dir("user-robot-1e308-shape");
+    let robots = crate::util::repo().join("robots");
+    std::fs::copy(robots.join("kuka_iiwa14.yaml"), dir.join("huge.yaml")).unwrap();
+    let urdf = std::fs::read_to_string(robots.join("kuka_iiwa14.urdf")).unwrap();
+    let sphere = urdf.find("<sphere radius=\"").expect("a sphere");
+    let end = sphere + urdf[sphere..].find("/>").unwrap();
+    let huge = format!(
+        "{}<sphere radius=\"1e308\"{}",
+        &urdf[..sphere],
+        &urdf[end..]
+    );
+    std::fs::write(dir.join("kuka_iiwa14.urdf"), huge).unwrap();
+    let scenario = std::fs::read_to_string(crate::util::fixture("valid/minimal.yaml"))
+        .unwrap()
+        .replace("model: kuka_iiwa14", "model: huge.yaml");
+    std::fs::write(dir.join("scene.yaml"), scenario).unwrap();
+    let run = crate::util::afford_with_path(&["plan"], &dir.join("scene.yaml"), &[]);
+    run.assert_code(2).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stderr,
+        &["robot.model", "kuka_iiwa14.urdf", "geometry sizes"],
+    );
+}

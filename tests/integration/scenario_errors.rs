@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use afford::planner::scenario;
 
-use crate::util::{afford_with_path, assert_contains_all, fixture};
+use crate::util::{afford_with_path, assert_contains_all, fixture, scratch_dir};
 
 /// `file:LINE:COLUMN:` right after the file name.
 fn location_line(message: &str, file: &str) -> Option<u64> {
@@ -131,7 +131,43 @@ malformed! {
     negative_margin: "negative-margin.yaml", At::NoLine
         => ["safety.hand_margin", "between 0 and 1", "-0.1"];
     negative_height: "negative-height.yaml", At::NoLine
-        => ["hands[0].height", "positive", "-0.08"];
+        => ["hands[0].height", "between 0.005 and 2 metres", "-0.08"];
+    grid_target_box_of_1e_300_px_is_bad_input: "grid-target-box-1e-300-px.yaml", At::NoLine
+        => ["objects[0].box", "at least 1 px", "w=1e-300"];
+    grid_target_box_of_5e_324_px_is_bad_input: "grid-target-box-5e-324-px.yaml", At::NoLine
+        => ["objects[0].box", "at least 1 px", "w=5e-324"];
+    target_box_of_0_001_px_is_bad_input: "target-box-0.001-px.yaml", At::NoLine
+        => ["objects[0].box", "at least 1 px", "w=0.001"];
+    object_smaller_than_5_mm_is_bad_input: "object-smaller-than-5-mm.yaml", At::NoLine
+        => ["objects[0].box", "0.0025 x 0.0025 m", "at least 0.005 m"];
+    grid_of_more_cells_than_the_bound_is_bad_input: "too-many-grid-cells.yaml", At::NoLine
+        => ["objects[0].box", "672400 grid cells", "at most 40000"];
+    height_near_2_pow_63_m_is_bad_input: "height-near-2-pow-63.yaml", At::NoLine
+        => ["objects[0].height", "between 0.005 and 2 metres", "9.223372036854776e18"];
+    height_of_4_3e9_m_is_bad_input: "height-4.3e9-m.yaml", At::NoLine
+        => ["goals[0].height", "between 0.005 and 2 metres", "4300000000"];
+    height_below_the_support_gap_is_bad_input: "height-below-support-gap.yaml", At::NoLine
+        => ["objects[0].height", "between 0.005 and 2 metres", "0.001"];
+    camera_height_of_2_pow_31_is_bad_input: "camera-height-2-pow-31.yaml", At::NoLine
+        => ["camera.height", "between 1 and 8192 pixels", "2147483648"];
+    calibration_spanning_640_m_is_bad_input: "camera-far-from-base.yaml", At::NoLine
+        => ["camera.pixel_to_base", "more than 10 m from the robot base"];
+    table_a_million_metres_away_is_bad_input: "table-z-far.yaml", At::NoLine
+        => ["camera.table_z", "between -10 and 10 metres", "-1000000"];
+    instruction_of_100_clauses_is_bad_input: "instruction-too-many-clauses.yaml", At::NoLine
+        => ["instruction", "100 clauses", "at most 64"];
+    more_objects_than_the_bound_is_bad_input: "too-many-objects.yaml", At::NoLine
+        => ["objects", "35 entries", "at most 32"];
+    learner_budget_of_1e12_steps_is_bad_input: "learner-max-steps-too-large.yaml", At::NoLine
+        => ["learner.max_steps", "at most 1000000", "1000000000000"];
+    safety_separation_is_validated_with_the_scenario: "separation-negative-reaction-time.yaml", At::NoLine
+        => ["safety.separation.reaction_time_s", "≥ 0", "-1"];
+    separation_human_speed_of_1e308_is_bad_input: "separation-huge-human-speed.yaml", At::NoLine
+        => ["safety.separation.human_speed_m_s", "at most 100", "1e308"];
+    separation_crawl_of_1e_300_m_s_is_bad_input: "separation-crawl-1e-300.yaml", At::NoLine
+        => ["safety.separation.min_tool_speed_m_s", "at least 0.001", "1e-300"];
+    name_of_300_characters_is_bad_input: "name-too-long.yaml", At::NoLine
+        => ["objects[1].name", "at most 200 characters"];
     empty_instruction: "empty-instruction.yaml", At::NoLine
         => ["instruction", "must not be empty"];
     learner_setting_out_of_range: "learner-out-of-range.yaml", At::NoLine
@@ -205,5 +241,60 @@ fn validation_reports_every_problem_not_just_the_first() {
             "goals[1].box",
             "safety.hand_margin",
         ],
+    );
+}
+
+/// The minimal scene with its instruction replaced.
+fn with_instruction(instruction: &str) -> String {
+    std::fs::read_to_string(fixture("valid/minimal.yaml"))
+        .unwrap()
+        .replace(
+            "instruction: \"put the blue square in the left box\"",
+            &format!("instruction: \"{instruction}\""),
+        )
+}
+
+#[test]
+fn validate_of_10000_clauses_is_bad_input() {
+    let clauses = vec!["the blue square in the left box"; 10_000].join(" , ");
+    let path = scratch_dir("validate-10000-clauses").join("clauses.yaml");
+    std::fs::write(&path, with_instruction(&format!("put {clauses}"))).unwrap();
+    let error = scenario::load(&path).expect_err("10,000 clauses");
+    assert_contains_all(
+        "error",
+        &error.to_string(),
+        &["instruction", "at most 2000 characters"],
+    );
+    let run = afford_with_path(&["validate"], &path, &[]);
+    run.assert_code(2).assert_no_panic();
+    assert_contains_all("stderr", &run.stderr, &["instruction", "2000 characters"]);
+}
+
+#[test]
+fn scenario_file_larger_than_1_mib_is_refused_unparsed() {
+    let padding = format!("# {}\n", "x".repeat(1 << 20));
+    let path = scratch_dir("scenario-larger-than-1-mib").join("large.yaml");
+    std::fs::write(&path, padding + &with_instruction("put it in the left box")).unwrap();
+    let error = scenario::load(&path).expect_err("larger than the bound");
+    assert_contains_all(
+        "error",
+        &error.to_string(),
+        &["large.yaml", "larger than 1048576 bytes"],
+    );
+    afford_with_path(&["plan"], &path, &[])
+        .assert_code(2)
+        .assert_no_panic();
+}
+
+#[test]
+fn a_scenario_built_in_code_is_validated_before_planning() {
+    let mut s = scenario::load(&fixture("valid/minimal.yaml")).unwrap();
+    s.objects[0].bbox.w = 1e-300;
+    let error = afford::planner::plan(&s, &afford::planner::PlanOptions::default())
+        .expect_err("a 1e-300 px target");
+    assert_contains_all(
+        "error",
+        &error.to_string(),
+        &["objects[0].box", "at least 1 px"],
     );
 }

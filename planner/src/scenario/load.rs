@@ -3,10 +3,12 @@
 //! gives it, the line and column.
 
 use std::cell::RefCell;
+use std::io::Read;
 use std::path::Path;
 
 use serde::de::DeserializeOwned;
 
+use super::bounds::MAX_FILE_BYTES;
 use super::{Scenario, validate};
 use crate::error::{FieldIssue, ScenarioError};
 
@@ -33,28 +35,56 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     let file = path.display().to_string();
     let format =
         Format::from_path(path).ok_or_else(|| ScenarioError::Extension { file: file.clone() })?;
-    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io {
+    let io = |e: std::io::Error| ScenarioError::Io {
         file: file.clone(),
         message: e.to_string(),
-    })?;
+    };
+    // Read one byte more than allowed: a larger file is refused unread.
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .map_err(io)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(io)?;
     parse(&text, format, &file)
 }
 
-/// Parses and validates scenario text; `file` is the name used in errors.
-pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, ScenarioError> {
-    let scenario: Scenario = match format {
-        Format::Json => parse_json(text, file)?,
-        Format::Yaml => parse_yaml(text, file)?,
-    };
-    let issues = validate::validate(&scenario);
+/// Validates a scenario built in code (parsing validates files already);
+/// `file` names it in the error.
+pub fn check(scenario: &Scenario, file: &str) -> Result<(), ScenarioError> {
+    let issues = validate::validate(scenario);
     if issues.is_empty() {
-        Ok(scenario)
+        Ok(())
     } else {
         Err(ScenarioError::Invalid {
             file: file.to_string(),
             issues,
         })
     }
+}
+
+/// Parses and validates scenario text; `file` is the name used in errors.
+/// Text longer than [`MAX_FILE_BYTES`] is refused before parsing.
+pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, ScenarioError> {
+    if text.len() as u64 > MAX_FILE_BYTES {
+        return Err(ScenarioError::Parse {
+            file: file.to_string(),
+            issue: FieldIssue::new(
+                "",
+                format!(
+                    "the file is larger than {MAX_FILE_BYTES} bytes, the largest scenario read"
+                ),
+            ),
+            line: None,
+            column: None,
+        });
+    }
+    let scenario: Scenario = match format {
+        Format::Json => parse_json(text, file)?,
+        Format::Yaml => parse_yaml(text, file)?,
+    };
+    check(&scenario, file)?;
+    Ok(scenario)
 }
 
 fn parse_json<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, ScenarioError> {

@@ -1,12 +1,14 @@
 //! Scenarios: the data model of a scenario file, reading it (YAML or JSON)
 //! and validating it, plus the built-in default scenario.
 
+pub mod bounds;
 mod load;
 mod model;
 mod validate;
 
-pub use load::{Format, load, parse};
+pub use load::{Format, check, load, parse};
 pub use model::*;
+pub use validate::validate;
 
 /// The embedded default scenario used when `afford plan` gets no file
 /// (`examples/sort-blue-squares.yaml`).

@@ -1,16 +1,21 @@
 //! Validation after parsing: everything serde cannot check (ranges, unique
-//! names, boxes inside the image, a usable calibration). Returns every issue
-//! found, each naming its field path.
+//! names, boxes inside the image, a usable calibration) and every size bound
+//! of [`super::bounds`], so no accepted scenario asks for unbounded work.
+//! Returns every issue found, each naming its field path.
 
 use std::collections::HashSet;
 
+use super::bounds::*;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
+
+/// Collects issues; `push(field, message)`.
+type Push<'a> = dyn FnMut(String, String) + 'a;
 
 /// All problems with `s`; empty when it is valid.
 pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
     let mut issues = Vec::new();
-    let mut push = |field: String, message: String| issues.push(FieldIssue::new(field, message));
+    let push = &mut |field: String, message: String| issues.push(FieldIssue::new(field, message));
     if s.afford != FORMAT_VERSION {
         push(
             "afford".into(),
@@ -20,15 +25,19 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
             ),
         );
     }
-    check_camera(s, &mut push);
+    if let Some(name) = &s.name {
+        check_text("name", name, push);
+    }
+    let camera_ok = check_camera(s, push);
     if s.robot.model.trim().is_empty() {
         push(
             "robot.model".into(),
             "must name a robot (kuka_iiwa14, care_o_bot4 or a description file)".into(),
         );
     }
+    check_text("robot.model", &s.robot.model, push);
     if let Some(start) = s.robot.start {
-        check_pixel(s, "robot.start", start, &mut push);
+        check_pixel(s, "robot.start", start, push);
     }
     for (name, value) in s.robot.joints.iter().flatten() {
         if !value.is_finite() {
@@ -39,25 +48,62 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         }
     }
     if let Some(p) = s.pointing {
-        check_pixel(s, "pointing", p, &mut push);
+        check_pixel(s, "pointing", p, push);
     }
-    let elements = s
+    check_elements(s, camera_ok, push);
+    for (i, entry) in s.sensitive.iter().take(MAX_SENSITIVE).enumerate() {
+        if entry.trim().is_empty() {
+            push(
+                format!("sensitive[{i}]"),
+                "must name a colour, shape or object".into(),
+            );
+        }
+        check_text(&format!("sensitive[{i}]"), entry, push);
+    }
+    check_count("sensitive", s.sensitive.len(), MAX_SENSITIVE, push);
+    check_safety(s, push);
+    check_instruction(&s.instruction, push);
+    for issue in s.learner.validate() {
+        push(format!("learner.{}", issue.field), issue.message);
+    }
+    let learner = &s.learner;
+    for (name, value) in [
+        ("max_steps", learner.max_steps),
+        ("episode_steps", learner.episode_steps),
+        ("convergence_window", learner.convergence_window),
+    ] {
+        if value > MAX_LEARNER_STEPS {
+            push(
+                format!("learner.{name}"),
+                format!("must be at most {MAX_LEARNER_STEPS} steps, got {value}"),
+            );
+        }
+    }
+    issues
+}
+
+/// Objects, goals and hands: names, boxes, heights, counts; objects also
+/// their colour, shape, size in metres and the grid they cut the image into.
+fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
+    check_count("objects", s.objects.len(), MAX_OBJECTS, push);
+    check_count("goals", s.goals.len(), MAX_GOALS, push);
+    check_count("hands", s.hands.len(), MAX_HANDS, push);
+    let mut elements: Vec<(String, &str, PixelBox, f64)> = Vec::new();
+    let objects = s
         .objects
         .iter()
-        .enumerate()
-        .map(|(i, o)| (format!("objects[{i}]"), o.name.as_str(), o.bbox, o.height))
-        .chain(
-            s.goals
-                .iter()
-                .enumerate()
-                .map(|(i, g)| (format!("goals[{i}]"), g.name.as_str(), g.bbox, g.height)),
-        )
-        .chain(
-            s.hands
-                .iter()
-                .enumerate()
-                .map(|(i, h)| (format!("hands[{i}]"), h.name.as_str(), h.bbox, h.height)),
-        );
+        .map(|o| (o.name.as_str(), o.bbox, o.height));
+    let goals = s.goals.iter().map(|g| (g.name.as_str(), g.bbox, g.height));
+    let hands = s.hands.iter().map(|h| (h.name.as_str(), h.bbox, h.height));
+    let lists: [(&str, Vec<_>, usize); 3] = [
+        ("objects", objects.collect(), MAX_OBJECTS),
+        ("goals", goals.collect(), MAX_GOALS),
+        ("hands", hands.collect(), MAX_HANDS),
+    ];
+    for (list, items, max) in lists {
+        let named = items.into_iter().take(max).enumerate();
+        elements.extend(named.map(|(i, (n, b, h))| (format!("{list}[{i}]"), n, b, h)));
+    }
     let mut names = HashSet::new();
     for (field, name, bbox, height) in elements {
         if name.trim().is_empty() {
@@ -68,29 +114,108 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
                 format!("the name '{name}' is used twice"),
             );
         }
-        check_box(s, &format!("{field}.box"), bbox, &mut push);
-        if !(height.is_finite() && height > 0.0) {
+        check_text(&format!("{field}.name"), name, push);
+        let box_ok = check_box(s, &format!("{field}.box"), bbox, push);
+        if !(height.is_finite() && (MIN_HEIGHT_M..=MAX_HEIGHT_M).contains(&height)) {
             push(
                 format!("{field}.height"),
-                format!("must be a positive number of metres, got {height}"),
+                format!("must be between {MIN_HEIGHT_M} and {MAX_HEIGHT_M} metres, got {height:?}"),
             );
         }
+        if camera_ok && box_ok && field.starts_with("objects") {
+            check_target_size(s, &format!("{field}.box"), bbox, push);
+        }
     }
-    for (i, o) in s.objects.iter().enumerate() {
+    for (i, o) in s.objects.iter().take(MAX_OBJECTS).enumerate() {
         for (what, text) in [("color", &o.color), ("shape", &o.shape)] {
             if text.trim().is_empty() {
                 push(format!("objects[{i}].{what}"), "must not be empty".into());
             }
+            check_text(&format!("objects[{i}].{what}"), text, push);
         }
     }
-    for (i, entry) in s.sensitive.iter().enumerate() {
-        if entry.trim().is_empty() {
+}
+
+/// An object is a target: its box is the grid's cell, so it must be big
+/// enough in metres and cut the image into at most [`MAX_GRID_CELLS`] cells.
+fn check_target_size(s: &Scenario, field: &str, b: PixelBox, push: &mut Push) {
+    let [mu, mv] = s.metres_per_pixel();
+    let (w_m, l_m) = (b.w * mu, b.l * mv);
+    if w_m.min(l_m) < MIN_OBJECT_SIDE_M {
+        push(
+            field.into(),
+            format!(
+                "the object is {:.4} x {:.4} m on the table; objects must be at least {MIN_OBJECT_SIDE_M} m on each side",
+                w_m, l_m
+            ),
+        );
+        return;
+    }
+    let cells = grid_cells_bound(s.camera.width, s.camera.height, b.w, b.l);
+    if cells > MAX_GRID_CELLS as f64 {
+        push(
+            field.into(),
+            format!(
+                "a target of {} x {} px cuts the {}x{} image into up to {cells:.0} grid cells; at most {MAX_GRID_CELLS} are allowed (use a larger box or a smaller image)",
+                b.w, b.l, s.camera.width, s.camera.height
+            ),
+        );
+    }
+}
+
+/// Returns true when the camera is usable for the size checks in metres.
+fn check_camera(s: &Scenario, push: &mut Push) -> bool {
+    let c = &s.camera;
+    let mut ok = true;
+    for (name, side) in [("width", c.width), ("height", c.height)] {
+        if side == 0 || side > MAX_IMAGE_SIDE_PX {
             push(
-                format!("sensitive[{i}]"),
-                "must name a colour, shape or object".into(),
+                format!("camera.{name}"),
+                format!("must be between 1 and {MAX_IMAGE_SIDE_PX} pixels, got {side}"),
             );
+            ok = false;
         }
     }
+    let m = &c.pixel_to_base;
+    if m.iter().flatten().any(|x| !x.is_finite()) {
+        push(
+            "camera.pixel_to_base".into(),
+            "must hold finite numbers".into(),
+        );
+        return false;
+    }
+    if (m[0][0] * m[1][1] - m[0][1] * m[1][0]).abs() < 1e-12 {
+        push(
+            "camera.pixel_to_base".into(),
+            "is singular: pixels do not map onto the table plane".into(),
+        );
+        return false;
+    }
+    let (w, h) = (c.width as f64, c.height as f64);
+    let far = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]]
+        .into_iter()
+        .map(|p| s.pixel_to_base(p))
+        .any(|[x, y]| !(x.abs() <= MAX_TABLE_EXTENT_M && y.abs() <= MAX_TABLE_EXTENT_M));
+    if far {
+        push(
+            "camera.pixel_to_base".into(),
+            format!("maps an image corner more than {MAX_TABLE_EXTENT_M} m from the robot base"),
+        );
+        ok = false;
+    }
+    if !(c.table_z.is_finite() && c.table_z.abs() <= MAX_TABLE_EXTENT_M) {
+        push(
+            "camera.table_z".into(),
+            format!(
+                "must be a height between -{MAX_TABLE_EXTENT_M} and {MAX_TABLE_EXTENT_M} metres, got {:?}",
+                c.table_z
+            ),
+        );
+    }
+    ok
+}
+
+fn check_safety(s: &Scenario, push: &mut Push) {
     let safety = &s.safety;
     for (name, value) in [
         ("obstacle_margin", safety.obstacle_margin),
@@ -104,44 +229,82 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
             );
         }
     }
-    if s.instruction.trim().is_empty() {
+    let separation = &safety.separation;
+    if let Err(crate::timing::TimingError::Setting {
+        field,
+        value,
+        expected,
+    }) = separation.validate()
+    {
+        push(
+            format!("safety.separation.{field}"),
+            format!("must be {expected}, got {value:?}"),
+        );
+    }
+    // Every field is a number in m, s, m/s or m/s²: one upper bound for all.
+    let fields = serde_json::to_value(separation).unwrap_or_default();
+    for (field, value) in fields.as_object().into_iter().flatten() {
+        if let Some(v) = value.as_f64().filter(|&v| v > MAX_SEPARATION_VALUE) {
+            push(
+                format!("safety.separation.{field}"),
+                format!("must be at most {MAX_SEPARATION_VALUE}, got {v:?}"),
+            );
+        }
+    }
+    let crawl = separation.min_tool_speed_m_s;
+    if crawl > 0.0 && crawl < MIN_CRAWL_SPEED_M_S {
+        push(
+            "safety.separation.min_tool_speed_m_s".into(),
+            format!(
+                "must be 0 (refuse to crawl) or at least {MIN_CRAWL_SPEED_M_S} m/s, got {crawl:?}"
+            ),
+        );
+    }
+}
+
+fn check_instruction(text: &str, push: &mut Push) {
+    if text.trim().is_empty() {
         push("instruction".into(), "must not be empty".into());
     }
-    for issue in s.learner.validate() {
-        push(format!("learner.{}", issue.field), issue.message);
-    }
-    issues
-}
-
-fn check_camera(s: &Scenario, push: &mut impl FnMut(String, String)) {
-    let c = &s.camera;
-    if c.width == 0 || c.height == 0 {
+    let chars = text.chars().count();
+    if chars > MAX_INSTRUCTION_CHARS {
         push(
-            "camera".into(),
-            format!("image size must be positive, got {}x{}", c.width, c.height),
+            "instruction".into(),
+            format!("must be at most {MAX_INSTRUCTION_CHARS} characters, got {chars}"),
         );
+        return;
     }
-    let m = &c.pixel_to_base;
-    if m.iter().flatten().any(|x| !x.is_finite()) {
+    let clauses = clause_count_bound(text);
+    if clauses > MAX_CLAUSES {
         push(
-            "camera.pixel_to_base".into(),
-            "must hold finite numbers".into(),
-        );
-    } else if (m[0][0] * m[1][1] - m[0][1] * m[1][0]).abs() < 1e-12 {
-        push(
-            "camera.pixel_to_base".into(),
-            "is singular: pixels do not map onto the table plane".into(),
-        );
-    }
-    if !c.table_z.is_finite() {
-        push(
-            "camera.table_z".into(),
-            "must be a finite height in metres".into(),
+            "instruction".into(),
+            format!(
+                "has up to {clauses} clauses (separated by commas, 'and', 'then'...); at most {MAX_CLAUSES} are allowed"
+            ),
         );
     }
 }
 
-fn check_pixel(s: &Scenario, field: &str, [u, v]: [f64; 2], push: &mut impl FnMut(String, String)) {
+fn check_count(field: &str, count: usize, max: usize, push: &mut Push) {
+    if count > max {
+        push(
+            field.into(),
+            format!("lists {count} entries; at most {max} are allowed"),
+        );
+    }
+}
+
+fn check_text(field: &str, text: &str, push: &mut Push) {
+    let chars = text.chars().count();
+    if chars > MAX_NAME_CHARS {
+        push(
+            field.into(),
+            format!("must be at most {MAX_NAME_CHARS} characters, got {chars}"),
+        );
+    }
+}
+
+fn check_pixel(s: &Scenario, field: &str, [u, v]: [f64; 2], push: &mut Push) {
     let (w, h) = (s.camera.width as f64, s.camera.height as f64);
     if !(u.is_finite() && v.is_finite() && (0.0..w).contains(&u) && (0.0..h).contains(&v)) {
         push(
@@ -151,26 +314,27 @@ fn check_pixel(s: &Scenario, field: &str, [u, v]: [f64; 2], push: &mut impl FnMu
     }
 }
 
-fn check_box(s: &Scenario, field: &str, b: PixelBox, push: &mut impl FnMut(String, String)) {
+/// True when the box is usable: finite, big enough, inside the image.
+fn check_box(s: &Scenario, field: &str, b: PixelBox, push: &mut Push) -> bool {
     let (w, h) = (s.camera.width as f64, s.camera.height as f64);
     let values = [b.u, b.v, b.w, b.l];
-    if values.iter().any(|x| !x.is_finite()) {
-        push(
-            field.into(),
-            "must hold four finite numbers [u, v, w, l]".into(),
-        );
+    let problem = if values.iter().any(|x| !x.is_finite()) {
+        "must hold four finite numbers [u, v, w, l]".to_string()
     } else if b.w <= 0.0 || b.l <= 0.0 {
-        push(
-            field.into(),
-            format!("width and length must be positive, got w={} l={}", b.w, b.l),
-        );
+        format!("width and length must be positive, got w={} l={}", b.w, b.l)
+    } else if b.w < MIN_BOX_SIDE_PX || b.l < MIN_BOX_SIDE_PX {
+        format!(
+            "width and length must be at least {MIN_BOX_SIDE_PX} px, got w={:?} l={:?}",
+            b.w, b.l
+        )
     } else if b.u < 0.0 || b.v < 0.0 || b.u + b.w > w || b.v + b.l > h {
-        push(
-            field.into(),
-            format!(
-                "box [{}, {}, {}, {}] is not inside the {w}x{h} image",
-                b.u, b.v, b.w, b.l
-            ),
-        );
-    }
+        format!(
+            "box [{}, {}, {}, {}] is not inside the {w}x{h} image",
+            b.u, b.v, b.w, b.l
+        )
+    } else {
+        return true;
+    };
+    push(field.into(), problem);
+    false
 }

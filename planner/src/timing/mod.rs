@@ -88,8 +88,8 @@ mod run;
 pub use bench::{TimingBenchReport, TimingBenchSettings, timing_benchmark};
 pub use deviation::ToolFk;
 pub use run::{
-    JointLimits, Proximity, SeparationSummary, SolveStats, Timing, TimingError, TimingSettings,
-    TimingStatus, time_parameterize, time_parameterize_tool,
+    JointLimits, MAX_SAMPLES, Proximity, SeparationSummary, SolveStats, Timing, TimingError,
+    TimingSettings, TimingStatus, time_parameterize, time_parameterize_tool,
 };
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};

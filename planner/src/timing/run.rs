@@ -169,6 +169,13 @@ impl TimingSettings {
     }
 }
 
+/// Most samples one timed path may hold (`duration × rate + 1`): 100 s at
+/// 100 Hz, 10 s at 1 kHz. A longer path is refused with
+/// [`TimingError::TooManySamples`] before any sample is allocated, so the
+/// trajectory's memory is bounded whatever the limits and the rate
+/// (README "Limits").
+pub const MAX_SAMPLES: usize = 10_000;
+
 /// Bad input to the timing stage.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -216,6 +223,17 @@ pub enum TimingError {
         expected: &'static str,
     },
     #[error(
+        "the motion would last {duration_s:.1} s, {samples:.0} samples at {rate_hz} Hz; \
+         at most {max} samples are allowed (slow joint limits or crawling near a hand; \
+         lower the rate or move the hand)",
+        max = MAX_SAMPLES
+    )]
+    TooManySamples {
+        duration_s: f64,
+        rate_hz: f64,
+        samples: f64,
+    },
+    #[error(
         "the path passes {distance_m:.3} m from a hand at s = {s:.4}, inside the protective \
          separation distance {required_m:.3} m, and min_tool_speed_m_s is 0"
     )]
@@ -237,6 +255,40 @@ pub enum TimingStatus {
     SolverStopped { outcome: SolverOutcome },
     /// A sample broke a limit; no trajectory is emitted.
     LimitViolated { violation: LimitViolation },
+}
+
+/// The status in words a user can act on (never the Debug form).
+impl std::fmt::Display for TimingStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Solved => write!(f, "timed"),
+            Self::SolverStopped { outcome } => write!(
+                f,
+                "no time-optimal motion was found along this path ({})",
+                match outcome {
+                    SolverOutcome::Infeasible =>
+                        "the joint limits or a hand's speed limit leave no way to move along it",
+                    SolverOutcome::LimitReached => "the timing program did not converge in time",
+                    _ =>
+                        "the timing program ran into numerical trouble; the path or the joint limits are extreme",
+                }
+            ),
+            Self::LimitViolated { violation } => write!(
+                f,
+                "the sampled motion breaks a {} limit at sample {} ({:.4} > {:.4})",
+                match violation.kind {
+                    super::sample::LimitKind::Position => "joint position",
+                    super::sample::LimitKind::ToolDeviation => "tool-path deviation",
+                    super::sample::LimitKind::Velocity => "joint velocity",
+                    super::sample::LimitKind::Acceleration => "joint acceleration",
+                    super::sample::LimitKind::ToolSpeed => "tool speed",
+                },
+                violation.sample,
+                violation.value.abs(),
+                violation.limit
+            ),
+        }
+    }
 }
 
 /// Solver figures.
@@ -429,6 +481,14 @@ pub fn time_parameterize_tool(
     }
 
     let profile = SpeedProfile::new(&grid, &solution.b);
+    let samples = (profile.duration() * settings.rate_hz).ceil() + 1.0;
+    if !samples.is_finite() || samples > MAX_SAMPLES as f64 {
+        return Err(TimingError::TooManySamples {
+            duration_s: profile.duration(),
+            rate_hz: settings.rate_hz,
+            samples,
+        });
+    }
     let ends = (points[0], points[points.len() - 1]);
     let trajectory = sample::sample(&spline, &profile, settings.rate_hz, ends);
     let velocity: Vec<f64> = limits.velocity.iter().map(|v| v * k).collect();
