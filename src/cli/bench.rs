@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use afford_planner::PlanOptions;
 use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 
+use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
     BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSafetyArgs, BenchSeedArgs, ExitKind, Failure,
@@ -35,14 +36,10 @@ pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
     let report = cql::run(&config, |done| bar.set_position(done as u64));
     bar.finish_and_clear();
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&report).expect("report serialises")
-        );
+        print_report(&report, true)
     } else {
-        print!("{}", report.table());
+        print(&report.table())
     }
-    Ok(())
 }
 
 pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
@@ -58,19 +55,15 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     bar.finish_and_clear();
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&report).expect("report serialises")
-        );
-        return Ok(());
+        return print_report(&report, true);
     }
-    println!(
-        "{:<12} {:<6} {:>7} {:>9} {:>11} {:>11} {:>13}",
+    let mut out = format!(
+        "{:<12} {:<6} {:>7} {:>9} {:>11} {:>11} {:>13}\n",
         "robot", "arm", "poses", "success", "median µs", "k success", "k median µs"
     );
     for a in &report.arms {
-        println!(
-            "{:<12} {:<6} {:>7} {:>8.2}% {:>11.1} {:>10.2}% {:>13.1}",
+        out += &format!(
+            "{:<12} {:<6} {:>7} {:>8.2}% {:>11.1} {:>10.2}% {:>13.1}\n",
             a.robot,
             a.arm,
             a.poses,
@@ -80,7 +73,7 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
             a.k_median_us
         );
     }
-    Ok(())
+    print(&out)
 }
 
 pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
@@ -88,26 +81,18 @@ pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
     let report = afford_collision::collision_benchmark(args.seed)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&report).expect("report serialises")
-        );
-    } else {
-        println!("random paths checked:          {}", report.paths);
-        println!(
-            "collisions the fast check missed: {}",
-            report.missed_collisions
-        );
-        println!(
-            "median ms, 1,000-configuration arm path: {:.3}",
-            report.median_ms_arm_path_1000
-        );
-        println!(
-            "shape-pair queries per second:   {:.0}",
-            report.pair_queries_per_s
-        );
+        return print_report(&report, true);
     }
-    Ok(())
+    print(&format!(
+        "random paths checked:          {}\n\
+         collisions the fast check missed: {}\n\
+         median ms, 1,000-configuration arm path: {:.3}\n\
+         shape-pair queries per second:   {:.0}\n",
+        report.paths,
+        report.missed_collisions,
+        report.median_ms_arm_path_1000,
+        report.pair_queries_per_s
+    ))
 }
 
 pub fn timing(args: &BenchSeedArgs) -> Result<(), Failure> {
@@ -166,8 +151,7 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
     if args.json {
         print_report(&report, true)
     } else {
-        print!("{}", report.table());
-        Ok(())
+        print(&report.table())
     }
 }
 
@@ -211,12 +195,8 @@ fn print_report<T: serde::Serialize>(report: &T, json: bool) -> Result<(), Failu
     } else {
         serde_saphyr::to_string(report).map_err(|e| e.to_string())
     };
-    println!(
-        "{}",
-        text.map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?
-            .trim_end()
-    );
-    Ok(())
+    let text = text.map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?;
+    print(&format!("{}\n", text.trim_end()))
 }
 
 /// A progress bar on stderr when it is a terminal, hidden otherwise.
