@@ -8,7 +8,11 @@
 //! `other`, so a new message shows up in the counts rather than vanishing.
 
 /// Every kind [`refusal_kind`] returns, in report order.
-pub const REFUSAL_KINDS: [&str; 11] = [
+pub const REFUSAL_KINDS: [&str; 15] = [
+    "gripper_too_narrow",
+    "too_tall_for_fingers",
+    "goal_full",
+    "does_not_fit_goal",
     "hand_covers_target",
     "hand_covers_gripper",
     "hand_blocks_route",
@@ -24,7 +28,11 @@ pub const REFUSAL_KINDS: [&str; 11] = [
 
 /// The short kind of a refusal message (see the module doc: a stop-gap).
 pub fn refusal_kind(reason: &str) -> &'static str {
-    const PHRASES: [(&str, &str); 11] = [
+    const PHRASES: [(&str, &str); 15] = [
+        ("; the gripper opens ", "gripper_too_narrow"),
+        (" tall: with the palm ", "too_tall_for_fingers"),
+        (" is full", "goal_full"),
+        ("'s inner walls", "does_not_fit_goal"),
         ("a hand covers ", "hand_covers_target"),
         (
             "a hand's perimeter covers the gripper",
@@ -91,6 +99,19 @@ mod tests {
                 "learner_budget",
             ),
             ("timing failed: NumericalError", "timing"),
+            (
+                "big is 0.125 m wide across its narrower side (0.135 m with 0.010 m clearance); the gripper opens 0.080 m",
+                "gripper_too_narrow",
+            ),
+            (
+                "tall is 0.200 m tall: with the palm 0.020 m above its top the fingers (0.050 m long) reach 5.0 mm below it, less than half its height or 10.0 mm",
+                "too_tall_for_fingers",
+            ),
+            ("left box is full", "goal_full"),
+            (
+                "big (0.200 m x 0.200 m) does not fit inside the left box's inner walls (0.100 m x 0.100 m, 0.005 m clearance)",
+                "does_not_fit_goal",
+            ),
             ("something new", "other"),
         ];
         for (reason, kind) in cases {
