@@ -332,7 +332,7 @@ impl Phases<'_> {
         let after: Vec<Obstacle> = scene
             .iter()
             .cloned()
-            .chain([Obstacle::piece(self.released, 0.0, Role::Obstacle)])
+            .chain([Obstacle::piece(self.released, 0.0, Role::Released)])
             .collect();
         let piece = &self.world.pieces[self.target];
         let held = body(
@@ -396,7 +396,8 @@ impl Phases<'_> {
     }
 
     /// The pairs of a phase: every body against every obstacle (the fingers
-    /// not against the target), the self-collision pairs, and the held
+    /// not against the target or the piece they just released), the
+    /// self-collision pairs, and the held
     /// object (last body, when present) against every link not rigid with
     /// the tool.
     fn pairs(&self, obstacles: &[Obstacle], bodies: &[Body]) -> Vec<Pair> {
@@ -405,7 +406,7 @@ impl Phases<'_> {
         let mut pairs = Vec::new();
         for (b, _) in bodies.iter().enumerate() {
             for (o, obstacle) in obstacles.iter().enumerate() {
-                if obstacle.role == Role::Target && r.fingers[b] {
+                if matches!(obstacle.role, Role::Target | Role::Released) && r.fingers[b] {
                     continue;
                 }
                 pairs.push(Pair {

@@ -199,7 +199,9 @@ impl Phase<'_> {
             *r = moved + (d - p.margin).max(0.0);
             let class = match role {
                 Some(Role::Target) if d < p.margin => ViolationClass::TargetTouched,
-                Some(Role::Obstacle) if d < -CONTACT_TOLERANCE => ViolationClass::Penetration,
+                Some(Role::Obstacle | Role::Released) if d < -CONTACT_TOLERANCE => {
+                    ViolationClass::Penetration
+                }
                 Some(Role::Obstacle) if d < p.margin - CONTACT_TOLERANCE => ViolationClass::Margin,
                 None if d < -CONTACT_TOLERANCE => ViolationClass::SelfCollision,
                 _ => continue,

@@ -100,6 +100,9 @@ pub(crate) enum Role {
     Obstacle,
     /// The target before the grasp: only the fingers may come near.
     Target,
+    /// The piece just released, under the open gripper: the fingers may
+    /// still straddle it as they rise; every other body must not touch it.
+    Released,
 }
 
 /// One obstacle: its convex parts (parry pose and shape) and its margin.
