@@ -419,13 +419,28 @@ impl RobotGeometry {
     /// tool frame, metres from the tool origin (the TCP). With the tool
     /// pointing down, `highest` is how far the body reaches below the TCP.
     pub fn tool_body_extents(&self, arm: &str) -> Result<Vec<(String, [f64; 2])>, CollisionError> {
+        Ok(self
+            .tool_body_bounds(arm)?
+            .into_iter()
+            .map(|(name, [min, max])| (name, [min[2], max[2]]))
+            .collect())
+    }
+
+    /// The bounding box of each collider rigid with `arm`'s tool frame, in
+    /// that frame: `(body name, [mins, maxs])`, metres from the TCP (x, y,
+    /// z; the fingers close along y, z is the approach axis).
+    pub fn tool_body_bounds(
+        &self,
+        arm: &str,
+    ) -> Result<Vec<(String, [[f64; 3]; 2])>, CollisionError> {
         let arm = self.model.arm(arm)?;
         Ok(self
             .tool_bodies(arm)?
             .into_iter()
             .map(|(name, pose, shape)| {
                 let aabb = shape.compute_aabb(&to_parry(&pose));
-                (name, [aabb.mins.z, aabb.maxs.z])
+                let (lo, hi) = (aabb.mins, aabb.maxs);
+                (name, [[lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]])
             })
             .collect())
     }

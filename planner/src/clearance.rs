@@ -10,8 +10,9 @@
 //! and the links never come near it; while holding it rides with the
 //! gripper as an attachment; after the release it stays where it was put,
 //! under the open gripper, and is left out. The held box's bottom
-//! [`SUPPORT_GAP`] is left out of the check: it rests on the table when the
-//! fingers close.
+//! [`SUPPORT_GAP`] is left out of the check only until the tool has risen
+//! twice that above the grasp (it rests on the table when the fingers
+//! close); from there on the whole box is checked.
 
 use afford_collision::{Attachment, BoxKind, Collision, PathOptions, RobotGeometry, Scene};
 use afford_kinematics::RobotModel;
@@ -57,7 +58,7 @@ pub fn check_motion(
     let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
     let object = &m.scenario.objects[m.target];
     let arm = robot.arm(m.arm).map_err(|e| e.to_string())?;
-    let mut held = scene_box(
+    let full = scene_box(
         m.scenario,
         &object.name,
         BoxKind::Object,
@@ -65,12 +66,16 @@ pub fn check_motion(
         object.height,
         0.0,
     );
-    held.size[2] -= SUPPORT_GAP;
-    let attached = Attachment::grasped(
-        &held,
-        spec.table_z + SUPPORT_GAP,
-        &arm.fk(&m.path[m.grasp_at]),
-    );
+    let grasp_pose = arm.fk(&m.path[m.grasp_at]);
+    let mut resting = full.clone();
+    resting.size[2] -= SUPPORT_GAP;
+    let on_table = Attachment::grasped(&resting, spec.table_z + SUPPORT_GAP, &grasp_pose);
+    let held = Attachment::grasped(&full, spec.table_z, &grasp_pose);
+    // The support slice is left out only until the object has left the table.
+    let lift_z = grasp_pose.translation.vector.z + 2.0 * SUPPORT_GAP;
+    let lifted = (m.grasp_at..m.release_at)
+        .find(|&k| arm.fk(&m.path[k]).translation.vector.z >= lift_z)
+        .unwrap_or(m.release_at);
     let options = PathOptions {
         arm: Some(m.arm.to_string()),
         ..PathOptions::default()
@@ -90,9 +95,17 @@ pub fn check_motion(
         ),
         (
             m.grasp_at,
+            lifted,
+            PathOptions {
+                attached: Some(on_table),
+                ..options.clone()
+            },
+        ),
+        (
+            lifted,
             m.release_at,
             PathOptions {
-                attached: Some(attached),
+                attached: Some(held),
                 ..options.clone()
             },
         ),
@@ -152,15 +165,23 @@ pub fn gripper_reach(robot: &RobotModel, geometry: &RobotGeometry) -> Result<Gri
         tips_below_tcp: 0.0,
         max_opening: robot.gripper().max_opening,
         finger_length: robot.gripper().finger_length,
+        finger_half_extent: [0.0, robot.gripper().max_opening / 2.0],
     };
     for arm in robot.arms() {
         let region = grasp_region(robot, geometry, &arm.name)?;
-        let extents = geometry
-            .tool_body_extents(&arm.name)
+        let bounds = geometry
+            .tool_body_bounds(&arm.name)
             .map_err(|e| e.to_string())?;
-        for (name, [_, below]) in extents {
+        for (name, [min, max]) in bounds {
+            let below = max[2];
             match region.contains(&name) {
-                true => reach.tips_below_tcp = reach.tips_below_tcp.max(below),
+                true => {
+                    reach.tips_below_tcp = reach.tips_below_tcp.max(below);
+                    for k in 0..2 {
+                        let side = min[k].abs().max(max[k].abs());
+                        reach.finger_half_extent[k] = reach.finger_half_extent[k].max(side);
+                    }
+                }
                 false => reach.palm_above_tcp = reach.palm_above_tcp.min(-below),
             }
         }

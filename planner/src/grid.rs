@@ -97,7 +97,7 @@ impl StateGrid {
     /// [`Self::build`] with the resting spot chosen so the open fingers
     /// (`opening`, m, across the grasp axis) also keep the pieces already in
     /// the goal at their margins.
-    pub fn build_placing(scenario: &Scenario, req: GridRequest, opening: Option<f64>) -> Self {
+    pub fn build_placing(scenario: &Scenario, req: GridRequest, opening: Option<[f64; 2]>) -> Self {
         let target_box = scenario.objects[req.object].bbox;
         let cell_size = [target_box.w, target_box.l];
         let image = [scenario.camera.width as f64, scenario.camera.height as f64];

@@ -94,6 +94,12 @@ pub struct GripperReach {
     pub max_opening: f64,
     /// The robot description's `gripper.finger_length`.
     pub finger_length: f64,
+    /// Half-widths of the grasp region's colliders about the TCP, metres:
+    /// `[along the tool's x (the object's longer side), across the grasp
+    /// axis (the tool's y)]`, each the farthest reach to either side, the
+    /// second at least half the opening. What is lowered over a release
+    /// spot is at least this wide.
+    pub finger_half_extent: [f64; 2],
 }
 
 /// What the robot is doing on the way to a waypoint.

@@ -67,12 +67,14 @@ impl NoSpot {
 /// The pixel centre where `scenario.objects[object]` is released into
 /// `scenario.goals[goal]`: the first free lattice spot that `allowed`
 /// accepts (the grid's test that the gripper may go there). `opening`: the
-/// open fingers' span across the grasp axis (m), `None` when unknown.
+/// half-widths of what is lowered around the object (the grasp region's
+/// colliders, at least the open fingers; m, `[along the object's longer
+/// side, across it]`), `None` when unknown.
 pub fn release_spot(
     s: &Scenario,
     object: usize,
     goal: usize,
-    opening: Option<f64>,
+    opening: Option<[f64; 2]>,
     allowed: impl Fn([f64; 2]) -> bool,
 ) -> Result<[f64; 2], NoSpot> {
     let [mu, mv] = s.metres_per_pixel();
@@ -126,19 +128,21 @@ pub fn release_spot(
 }
 
 /// Half sizes (px) of what is lowered over the spot: the object's footprint,
-/// widened across the grasp axis (its narrower side in metres) to the open
-/// fingers' span.
-fn footprint(s: &Scenario, object: usize, opening: Option<f64>) -> [f64; 2] {
+/// widened to the gripper's half-widths `[along, across]` the grasp axis
+/// (its narrower side in metres).
+fn footprint(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> [f64; 2] {
     let [mu, mv] = s.metres_per_pixel();
     let b = s.objects[object].bbox;
     let mut half = [b.w / 2.0, b.l / 2.0];
-    if let Some(open) = opening {
-        let (k, mpp) = if b.w * mu <= b.l * mv {
-            (0, mu)
+    if let Some([along, across]) = opening {
+        // The fingers close across the narrower side (the tool's y).
+        let across_u = b.w * mu <= b.l * mv;
+        let (gu, gv) = if across_u {
+            (across, along)
         } else {
-            (1, mv)
+            (along, across)
         };
-        half[k] = half[k].max(open / 2.0 / mpp);
+        half = [half[0].max(gu / mu), half[1].max(gv / mv)];
     }
     half
 }
@@ -181,12 +185,12 @@ mod tests {
     fn release_spots_fill_rows_from_one_corner_inside_the_inner_walls() {
         let mut s = scene([20.0, 300.0, 160.0, 160.0]);
         let [mu, mv] = s.metres_per_pixel();
-        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        let first = release_spot(&s, 0, 0, Some([0.0, 0.04]), |_| true).unwrap();
         // Top-left corner: wall + clearance + half the object from each side.
         assert!((first[0] - (20.0 + (GOAL_WALL + WALL_CLEARANCE) / mu + 20.0)).abs() < 1e-9);
         assert!((first[1] - (300.0 + (GOAL_WALL + WALL_CLEARANCE) / mv + 20.0)).abs() < 1e-9);
         put(&mut s, 0, first);
-        let second = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        let second = release_spot(&s, 1, 0, Some([0.0, 0.04]), |_| true).unwrap();
         put(&mut s, 1, second);
         assert_eq!(second[1], first[1], "same row");
         assert!(footprint_gap(&s, 1, 0) >= WALL_CLEARANCE);
@@ -213,11 +217,29 @@ mod tests {
     #[test]
     fn pieces_as_tall_as_the_wall_keep_their_margin_from_the_open_fingers() {
         let mut s = scene([20.0, 300.0, 160.0, 160.0]);
-        let first = release_spot(&s, 0, 0, Some(0.08), |_| true).unwrap();
+        let first = release_spot(&s, 0, 0, Some([0.0, 0.04]), |_| true).unwrap();
         put(&mut s, 0, first);
         s.objects[0].height = s.goals[0].height;
-        let spot = release_spot(&s, 1, 0, Some(0.08), |_| true).unwrap();
+        let spot = release_spot(&s, 1, 0, Some([0.0, 0.04]), |_| true).unwrap();
         put(&mut s, 1, spot);
         assert!(footprint_gap(&s, 1, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
+    }
+
+    #[test]
+    fn place_keeps_the_margin_from_a_gripper_wider_than_the_object_along_it() {
+        // A palm reaching 0.064 m to either side along the object (the
+        // Care-O-bot's palm capsule), 0.04 m across: the spot leaves that
+        // whole footprint clear of a piece as tall as the wall.
+        let mut s = scene([20.0, 300.0, 200.0, 200.0]);
+        let gripper = Some([0.064, 0.04]);
+        let first = release_spot(&s, 0, 0, gripper, |_| true).unwrap();
+        put(&mut s, 0, first);
+        s.objects[0].height = s.goals[0].height;
+        let spot = release_spot(&s, 1, 0, gripper, |_| true).unwrap();
+        put(&mut s, 1, spot);
+        let half = footprint(&s, 1, gripper);
+        let [mu, _] = s.metres_per_pixel();
+        assert!(half[0].max(half[1]) >= 0.064 / mu - 1e-9, "{half:?}");
+        assert!(gap(&s, half, spot, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
     }
 }

@@ -712,14 +712,15 @@ fn subgoal_plan(
     }
 }
 
-/// The open fingers' span the resting spot leaves room for (m), once the
-/// robot is known.
-fn opening(world: &World) -> Option<f64> {
-    world.gripper.map(|g| g.max_opening)
+/// The half-widths a release spot leaves room for: the grasp region's
+/// colliders about the TCP, at least the open fingers (m, see
+/// [`GripperReach::finger_half_extent`]), once the robot is known.
+fn opening(world: &World) -> Option<[f64; 2]> {
+    world.gripper.map(|g| g.finger_half_extent)
 }
 
 /// Why the oracle finds no plan, in words a user can act on.
-fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<f64>) -> String {
+fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> String {
     let grid = StateGrid::build_placing(scene, request, opening);
     let object = &scene.objects[request.object].name;
     let goal = &scene.goals[request.goal].name;
