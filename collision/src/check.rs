@@ -30,6 +30,9 @@ use crate::robot::{Attachment, RobotGeometry};
 use crate::scene::Scene;
 use crate::sweep::{self, Bodies, Group, Partner, Sweep};
 
+/// A collider's bounding box in the tool frame, `[mins, maxs]` (x, y, z), m.
+pub type ToolBounds = [[f64; 3]; 2];
+
 /// Settings of a check; defaults written once here.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -429,10 +432,7 @@ impl RobotGeometry {
     /// The bounding box of each collider rigid with `arm`'s tool frame, in
     /// that frame: `(body name, [mins, maxs])`, metres from the TCP (x, y,
     /// z; the fingers close along y, z is the approach axis).
-    pub fn tool_body_bounds(
-        &self,
-        arm: &str,
-    ) -> Result<Vec<(String, [[f64; 3]; 2])>, CollisionError> {
+    pub fn tool_body_bounds(&self, arm: &str) -> Result<Vec<(String, ToolBounds)>, CollisionError> {
         let arm = self.model.arm(arm)?;
         Ok(self
             .tool_bodies(arm)?

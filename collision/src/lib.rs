@@ -40,7 +40,9 @@ pub use bench::{
     BenchCase, CollisionBenchReport, CrossCheck, bench_case, collision_benchmark, cross_check,
     median_ms_arm_path, pair_queries_per_s, random_case,
 };
-pub use check::{CheckSettings, CheckStats, Collision, HitKind, PathOptions, PathVerdict};
+pub use check::{
+    CheckSettings, CheckStats, Collision, HitKind, PathOptions, PathVerdict, ToolBounds,
+};
 pub use dense::{DenseResult, DenseSettings, dense_joint_path, dense_tool_path};
 pub use error::CollisionError;
 pub use fixture::{

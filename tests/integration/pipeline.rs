@@ -100,13 +100,7 @@ fn csv_has_one_row_per_sample() {
 #[test]
 fn a_user_robot_named_in_the_scenario_plans() {
     let dir = scratch_dir("user-robot");
-    for file in ["six_dof.urdf", "six_dof.yaml"] {
-        std::fs::copy(
-            repo().join("kinematics/tests/fixtures").join(file),
-            dir.join(file),
-        )
-        .expect("copy robot");
-    }
+    copy_fixture_robot("six_dof", &dir);
     let scenario = dir.join("scene.yaml");
     std::fs::write(
         &scenario,
@@ -387,13 +381,7 @@ fn start_state_naming_a_wrong_joint_set_or_value_is_bad_input() {
 /// The continuous-joint fixture robot next to a scenario whose current state
 /// has j6 at `j6` rad.
 fn continuous_robot_scenario(dir: &Path, j6: &str) -> std::path::PathBuf {
-    for file in ["continuous.urdf", "continuous.yaml"] {
-        std::fs::copy(
-            repo().join("kinematics/tests/fixtures").join(file),
-            dir.join(file),
-        )
-        .expect("copy robot");
-    }
+    copy_fixture_robot("continuous", dir);
     let scenario = dir.join("scene.yaml");
     std::fs::write(
         &scenario,
@@ -462,4 +450,16 @@ fn start_with_neither_joints_nor_pixel_rests_at_home() {
         assert_eq!(state[&joint.name], *home, "{}", joint.name);
     }
     assert_chained_from_start_state("neither", &plan);
+}
+
+/// Copies the kinematics test robot `name` (its URDF and description) into `dir`.
+fn copy_fixture_robot(name: &str, dir: &Path) {
+    for ext in ["urdf", "yaml"] {
+        let file = format!("{name}.{ext}");
+        std::fs::copy(
+            repo().join("kinematics/tests/fixtures").join(&file),
+            dir.join(&file),
+        )
+        .expect("copy robot");
+    }
 }
