@@ -5,7 +5,7 @@ use std::fmt::Write;
 use afford_kinematics::{IkSettings, RobotModel};
 use afford_planner::PlanError;
 use afford_planner::grid::{GridRequest, StateGrid};
-use afford_planner::instruction::subgoals;
+use afford_planner::instruction::{Interpretation, interpret, subgoals};
 use afford_planner::lift::LiftSettings;
 use afford_planner::scenario::Scenario;
 use afford_planner::start::{self, FirstSubgoal};
@@ -125,16 +125,22 @@ fn explain(s: &Scenario, robot: &RobotModel, gripper: [f64; 2], seed: u64) -> St
         px(m.hand_margin)
     );
     let _ = writeln!(out, "instruction: \"{}\"", s.instruction);
-    match subgoals(s, seed) {
+    match interpret(s, seed) {
         Err(e) => {
             let _ = writeln!(out, "sub-goals: {e}");
         }
-        Ok(goals) => {
+        Ok(Interpretation {
+            subgoals: goals,
+            skipped,
+        }) => {
             let _ = writeln!(
                 out,
                 "sub-goals: {} (grids drawn on the scene as it is now)",
                 goals.len()
             );
+            for note in &skipped {
+                let _ = writeln!(out, "  left where it is: {note}");
+            }
             for (k, g) in goals.iter().enumerate() {
                 let request = GridRequest {
                     object: s.object_index(&g.object).unwrap_or(0),

@@ -292,3 +292,28 @@ fn user_robot_with_a_1e308_m_shape_is_bad_input() {
         &["robot.model", "kuka_iiwa14.urdf", "geometry sizes"],
     );
 }
+
+#[test]
+fn validate_says_which_pieces_already_rest_in_the_goal() {
+    let dir = crate::util::scratch_dir("validate-skipped");
+    let text = std::fs::read_to_string(crate::util::repo().join("examples/sort-blue-squares.yaml"))
+        .unwrap()
+        .replace(
+            "objects:\n",
+            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [60, 340, 40, 40], height: 0.03}\n",
+        );
+    let path = dir.join("one-already-in.yaml");
+    std::fs::write(&path, text).unwrap();
+    let run = crate::util::afford_with_path(&["validate"], &path, &[]);
+    run.assert_code(0).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stdout,
+        &["left where it is: blue-square-9 is already in the left box"],
+    );
+    assert!(
+        !run.stdout.contains("blue-square-9 → left box"),
+        "{}",
+        run.stdout
+    );
+}
