@@ -17,7 +17,7 @@ use crate::clearance::{ArmMotion, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
-use crate::instruction::{SubGoal, subgoals};
+use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
 use crate::motion::solve_motion;
 use crate::oracle;
@@ -84,6 +84,10 @@ pub struct Plan {
     /// trajectory starts (stage `joints` and later).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub start_state: Option<JointState>,
+    /// Pieces the instruction names that already rest in their goal and
+    /// are left where they are, one sentence each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub skipped: Vec<String>,
     /// Planned sub-goals, in execution order.
     pub subgoals: Vec<SubgoalPlan>,
     /// Sub-goals that could not be planned, with the reason.
@@ -205,7 +209,10 @@ impl Planner {
         // every size bound holds before any work starts.
         crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
         let mut timings = StageTimings::default();
-        let goals = timed(&mut timings.subgoals, || subgoals(scenario, options.seed))?;
+        let Interpretation {
+            subgoals: goals,
+            skipped,
+        } = timed(&mut timings.subgoals, || work(scenario, options.seed))?;
         let spec = &scenario.robot;
         let needs_robot =
             options.until >= Stage::Waypoints || spec.start.is_none() || spec.joints.is_some();
@@ -254,6 +261,7 @@ impl Planner {
             seed: options.seed,
             until: options.until,
             start_state,
+            skipped,
             subgoals: Vec::new(),
             unsolved: Vec::new(),
             timings: StageTimings::default(),

@@ -48,6 +48,9 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         })?;
         emit(&picture, Some(svg))?;
     }
+    for note in &plan.skipped {
+        eprintln!("afford: left where it is: {note}");
+    }
     if plan.unsolved.is_empty() {
         return Ok(());
     }

@@ -300,7 +300,7 @@ fn validate_says_which_pieces_already_rest_in_the_goal() {
         .unwrap()
         .replace(
             "objects:\n",
-            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [60, 340, 40, 40], height: 0.03}\n",
+            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [30, 310, 40, 40], height: 0.03}\n",
         );
     let path = dir.join("one-already-in.yaml");
     std::fs::write(&path, text).unwrap();
@@ -315,5 +315,40 @@ fn validate_says_which_pieces_already_rest_in_the_goal() {
         !run.stdout.contains("blue-square-9 → left box"),
         "{}",
         run.stdout
+    );
+}
+
+#[test]
+fn plan_notes_pieces_already_in_the_goal_and_plans_the_others() {
+    let dir = crate::util::scratch_dir("plan-skipped");
+    let text = std::fs::read_to_string(crate::util::repo().join("examples/sort-blue-squares.yaml"))
+        .unwrap()
+        .replace(
+            "objects:\n",
+            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [30, 310, 40, 40], height: 0.03}\n",
+        );
+    let path = dir.join("one-already-in.yaml");
+    std::fs::write(&path, text).unwrap();
+    let run = crate::util::afford_with_path(&["plan", "--until", "grid"], &path, &[]);
+    run.assert_code(0).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stderr,
+        &["left where it is: blue-square-9 is already in the left box"],
+    );
+    let plan: serde_json::Value = serde_json::from_str(&run.stdout).expect("JSON plan");
+    assert_eq!(
+        plan["skipped"][0],
+        "blue-square-9 is already in the left box"
+    );
+    let moved: Vec<&str> = plan["subgoals"]
+        .as_array()
+        .expect("subgoals")
+        .iter()
+        .map(|s| s["object"].as_str().expect("object"))
+        .collect();
+    assert!(
+        !moved.is_empty() && !moved.contains(&"blue-square-9"),
+        "{moved:?}"
     );
 }

@@ -104,6 +104,14 @@ pub fn interpret(scenario: &Scenario, seed: u64) -> Result<Interpretation, Instr
 /// # Errors
 /// As [`interpret`], plus "nothing to move".
 pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, InstructionError> {
+    work(scenario, seed).map(|i| i.subgoals)
+}
+
+/// [`interpret`], refusing an instruction that leaves nothing to move.
+///
+/// # Errors
+/// As [`interpret`], plus "nothing to move".
+pub fn work(scenario: &Scenario, seed: u64) -> Result<Interpretation, InstructionError> {
     let i = interpret(scenario, seed)?;
     if i.subgoals.is_empty() {
         return Err(InstructionError::new(format!(
@@ -111,7 +119,7 @@ pub fn subgoals(scenario: &Scenario, seed: u64) -> Result<Vec<SubGoal>, Instruct
             i.skipped.join("; ")
         )));
     }
-    Ok(i.subgoals)
+    Ok(i)
 }
 
 /// The parts of the instruction: split at clause breaks, and before a
