@@ -295,15 +295,7 @@ fn user_robot_with_a_1e308_m_shape_is_bad_input() {
 
 #[test]
 fn validate_says_which_pieces_already_rest_in_the_goal() {
-    let dir = crate::util::scratch_dir("validate-skipped");
-    let text = std::fs::read_to_string(crate::util::repo().join("examples/sort-blue-squares.yaml"))
-        .unwrap()
-        .replace(
-            "objects:\n",
-            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [30, 310, 40, 40], height: 0.03}\n",
-        );
-    let path = dir.join("one-already-in.yaml");
-    std::fs::write(&path, text).unwrap();
+    let path = blue_square_already_in_the_left_box("validate-skipped");
     let run = crate::util::afford_with_path(&["validate"], &path, &[]);
     run.assert_code(0).assert_no_panic();
     assert_contains_all(
@@ -320,15 +312,7 @@ fn validate_says_which_pieces_already_rest_in_the_goal() {
 
 #[test]
 fn plan_notes_pieces_already_in_the_goal_and_plans_the_others() {
-    let dir = crate::util::scratch_dir("plan-skipped");
-    let text = std::fs::read_to_string(crate::util::repo().join("examples/sort-blue-squares.yaml"))
-        .unwrap()
-        .replace(
-            "objects:\n",
-            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [30, 310, 40, 40], height: 0.03}\n",
-        );
-    let path = dir.join("one-already-in.yaml");
-    std::fs::write(&path, text).unwrap();
+    let path = blue_square_already_in_the_left_box("plan-skipped");
     let run = crate::util::afford_with_path(&["plan", "--until", "grid"], &path, &[]);
     run.assert_code(0).assert_no_panic();
     assert_contains_all(
@@ -351,4 +335,19 @@ fn plan_notes_pieces_already_in_the_goal_and_plans_the_others() {
         !moved.is_empty() && !moved.contains(&"blue-square-9"),
         "{moved:?}"
     );
+}
+
+/// The default scenario with one more blue square already resting in the
+/// left box (a corner of it), written to a scratch folder `name`.
+fn blue_square_already_in_the_left_box(name: &str) -> std::path::PathBuf {
+    let dir = crate::util::scratch_dir(name);
+    let text = std::fs::read_to_string(crate::util::repo().join("examples/sort-blue-squares.yaml"))
+        .unwrap()
+        .replace(
+            "objects:\n",
+            "objects:\n  - {name: blue-square-9, color: blue, shape: square, box: [30, 310, 40, 40], height: 0.03}\n",
+        );
+    let path = dir.join("one-already-in.yaml");
+    std::fs::write(&path, text).unwrap();
+    path
 }
