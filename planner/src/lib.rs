@@ -4,21 +4,21 @@
 //! discrete, verified grid plan, after Munguia-Galeano et al., "Affordance-Based
 //! Human–Robot Interaction With Reinforcement Learning" (IEEE Access 2023):
 //!
-//! | stage | module | paper |
-//! |---|---|---|
-//! | scenario file | [`scenario`] | semantic set O, eq. (4) |
-//! | sub-goals | [`instruction`] | Algorithm 1 |
-//! | state grid | [`grid`] | Algorithm 2 |
-//! | task (MDP) | [`task`] | actions, eq. (5) |
-//! | affordances, initial Q | [`affordance`] | eq. (7)–(9) |
-//! | learning | [`cql`] | eq. (10)–(11), Algorithm 3 |
-//! | oracle | [`oracle`] | — (BFS, for measurement) |
-//! | the robot's state at t = 0 | [`start`] | — |
-//! | lifting to 3-D, placement | [`lift`], [`smooth`], [`place`] | spline interpolation, Alg. 3 |
-//! | arm choice, IK | [`motion`] (over `afford-kinematics`) | — |
-//! | collision check, replanning | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
-//! | time-parameterisation | [`timing`], [`trajectory`] (Clarabel) | — |
-//! | pipeline | [`plan`] | Fig. 2 |
+//! | stage | folder | module | paper |
+//! |---|---|---|---|
+//! | scenario file | | [`scenario`] | semantic set O, eq. (4) |
+//! | sub-goals | | [`instruction`] | Algorithm 1 |
+//! | state grid | [`discrete`] | [`grid`] | Algorithm 2 |
+//! | task (MDP) | [`discrete`] | [`task`] | actions, eq. (5) |
+//! | affordances, initial Q | [`discrete`] | [`affordance`] | eq. (7)–(9) |
+//! | learning | [`discrete`] | [`cql`] | eq. (10)–(11), Algorithm 3 |
+//! | oracle | [`discrete`] | [`oracle`] | — (BFS, for measurement) |
+//! | the robot's state at t = 0 | [`motion`] | [`start`] | — |
+//! | lifting to 3-D, placement | [`motion`] | [`lift`], [`smooth`], [`place`] | spline interpolation, Alg. 3 |
+//! | arm choice, IK | [`motion`] | [`motion`] (over `afford-kinematics`) | — |
+//! | collision check, replanning | [`motion`] | [`geometry`], [`clearance`] (over `afford-collision`) | safety perimeters |
+//! | time-parameterisation | [`timing`] | [`timing`], [`trajectory`] (Clarabel) | — |
+//! | pipeline | | [`plan`] | Fig. 2 |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -28,25 +28,20 @@
 //! assert_eq!(plan.subgoals[0].actions.last().unwrap().name(), "DROP");
 //! ```
 
-pub mod affordance;
 pub mod bench;
-pub mod clearance;
-pub mod cql;
+pub mod discrete;
 pub mod error;
-pub mod geometry;
-pub mod grid;
 pub mod instruction;
-pub mod lift;
 pub mod motion;
-pub mod oracle;
-pub mod place;
 pub mod plan;
 pub mod scenario;
-pub mod smooth;
-pub mod start;
-pub mod task;
 pub mod timing;
-pub mod trajectory;
+
+// The stages keep their short paths (`afford_planner::grid`, …): the folders
+// group them by pipeline stage, the names stay what users already import.
+pub use discrete::{affordance, cql, grid, oracle, task};
+pub use motion::{clearance, geometry, lift, place, smooth, start};
+pub use timing::trajectory;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};

@@ -82,6 +82,7 @@ pub mod sample;
 pub mod separation;
 pub mod spline;
 pub mod topp;
+pub mod trajectory;
 
 mod run;
 
