@@ -704,6 +704,7 @@ fn subgoal_plan(
         path_px: learned.cells.iter().map(|&c| grid.centre(c)).collect(),
         release_px: grid
             .release
+            .map(|r| r.spot)
             .unwrap_or_else(|_| grid.centre(*learned.cells.last().unwrap_or(&grid.start))),
         training_steps: learned.training_steps,
         optimal_length,

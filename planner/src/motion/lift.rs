@@ -22,7 +22,9 @@
 //!   held object's height + `carry_clearance`, so the held object's bottom
 //!   clears everything by at least `carry_clearance`;
 //! - release: the object's bottom `release_clearance` above the box's wall
-//!   top, exactly over its resting spot ([`crate::place`]). DROP opens the
+//!   top (or above the pieces already in the box that the open fingers
+//!   pass over, plus their margin: [`crate::place::Release::floor`]),
+//!   exactly over its resting spot ([`crate::place`]). DROP opens the
 //!   gripper over the box, as in the paper: the fingers never enter it, so a
 //!   box narrower than the open gripper still works.
 //!
@@ -240,12 +242,15 @@ pub fn lift(
             true,
         ));
     }
-    let drop_px = grid.release.unwrap_or_else(|_| grid.centre(drop));
-    let goal_wall = scenario.goals[goal].height;
+    let (drop_px, floor) = match grid.release {
+        Ok(r) => (r.spot, r.floor),
+        Err(_) => (grid.centre(drop), 0.0),
+    };
+    let floor = floor.max(scenario.goals[goal].height);
     out.push(point(drop_px, carry_height, Phase::OverWall, true));
     out.push(point(
         drop_px,
-        goal_wall + grasp + settings.release_clearance,
+        floor + grasp + settings.release_clearance,
         Phase::Release,
         true,
     ));
