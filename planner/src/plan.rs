@@ -339,7 +339,9 @@ impl Planner {
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
                 Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
-                _ if hit.at_grasp && !retry.flipped => retry.flipped = true,
+                _ if hit.at_grasp && retry.turn + 1 < grasp_turns(world, request, &self.options) => {
+                    retry.turn += 1
+                }
                 _ => return Err(format!("the motion collides: {}", hit.message)),
             }
         }
@@ -406,11 +408,9 @@ impl Planner {
                 &options.lift,
             )
         })?;
-        if retry.flipped {
-            motion
-                .waypoints
-                .iter_mut()
-                .for_each(|w| w.yaw += std::f64::consts::PI);
+        let turn = f64::from(GRASP_TURNS[retry.turn]) * std::f64::consts::FRAC_PI_2;
+        if turn != 0.0 {
+            motion.waypoints.iter_mut().for_each(|w| w.yaw += turn);
         }
         let (Some(robot), Some(geometry), true) = (
             &world.robot,
@@ -508,9 +508,30 @@ impl Planner {
 struct Retry {
     /// Cells the arm collided over, blocked in the grid.
     blocked: Vec<Cell>,
-    /// Grasp with the tool turned half a turn (a hand whose open finger
-    /// sticks out to one side then has it on the other).
-    flipped: bool,
+    /// Index into [`GRASP_TURNS`]: how the tool is turned about its axis at
+    /// every waypoint of the pass.
+    turn: usize,
+}
+
+/// Quarter turns of the tool tried in order after a hit where the hand
+/// closes or opens: none, half a turn (a hand whose open finger sticks out
+/// to one side then has it on the other), then the fingers across the
+/// object's longer side both ways (open fingers that straddle a neighbour
+/// or a box wall then lie along it), when that side fits the opening
+/// ([`grasp_turns`]). The held object keeps its orientation on the table.
+const GRASP_TURNS: [u8; 4] = [0, 2, 1, 3];
+
+/// How many of [`GRASP_TURNS`] the object allows: all four when its longer
+/// side plus the opening clearance fits the gripper's opening, else the
+/// first two.
+fn grasp_turns(world: &World, request: GridRequest, options: &PlanOptions) -> usize {
+    let [mu, mv] = world.scene.metres_per_pixel();
+    let b = world.scene.objects[request.object].bbox;
+    let longer = (b.w * mu).max(b.l * mv);
+    match world.gripper {
+        Some(g) if longer + options.lift.opening_clearance <= g.max_opening => GRASP_TURNS.len(),
+        _ => 2,
+    }
 }
 
 /// The outcome of one pass through the stages.
