@@ -339,7 +339,9 @@ impl Planner {
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
                 Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
-                _ if hit.at_grasp && retry.turn + 1 < grasp_turns(world, request, &self.options) => {
+                _ if hit.at_grasp
+                    && retry.turn + 1 < grasp_turns(world, request, &self.options) =>
+                {
                     retry.turn += 1
                 }
                 _ => return Err(format!("the motion collides: {}", hit.message)),

@@ -124,11 +124,7 @@ pub fn release_spot(
     let pieces: Vec<usize> = (0..s.objects.len())
         .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
         .collect();
-    let clear = |p: [f64; 2]| {
-        pieces
-            .iter()
-            .all(|&j| gap(s, held, p, j) >= WALL_CLEARANCE)
-    };
+    let clear = |p: [f64; 2]| pieces.iter().all(|&j| gap(s, held, p, j) >= WALL_CLEARANCE);
     let mut free = spots.filter(|&p| clear(p)).peekable();
     if free.peek().is_none() {
         return Err(NoSpot::Full);
