@@ -17,6 +17,7 @@
 //! | tool speed near hands (ISO/TS 15066) | `tool_speed` | `tool_speed` |
 //! | dense collision check (1 mm steps) | `dense`, `bodies`, `scene`, `chain` | `penetration`, `margin`, `self_collision`, `target_touched` |
 //! | grasp width, release | `placement` | `gripper_opening`, `placement` |
+//! | physical replay (rapier3d, `--physics`) | [`physics`] | `physics` |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -32,6 +33,7 @@ mod check;
 mod dense;
 mod file;
 mod format;
+pub mod physics;
 mod placement;
 mod rates;
 mod report;
