@@ -159,3 +159,37 @@ pub fn check_physics(
     }
     (Some(replayed), report)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default scenario's pieces: boxes of their footprint and height on
+    /// the table, a round one a cylinder, one inside a goal on its floor.
+    #[test]
+    fn scene_pieces_take_the_scenarios_shapes_and_supports() {
+        let mut s = afford_planner::scenario::default_scenario().unwrap();
+        let robot = RobotModel::builtin(&s.robot.model).unwrap();
+        s.objects[0].shape = "Circle".into();
+        let goal = s.goals[0].bbox;
+        s.objects[1].bbox = s.objects[1].bbox.centred_at(goal.centre());
+        let joints = robot.joints();
+        let plan = PlanFile {
+            start_state: Some(crate::StartState {
+                joint_names: joints.iter().map(|j| j.name.clone()).collect(),
+                positions: robot.home().to_vec(),
+            }),
+            subgoals: Vec::new(),
+        };
+        let scene = physics_scene(&s, &robot, &plan).unwrap();
+        let z0 = s.camera.table_z;
+        let (a, b, c) = (&scene.pieces[0], &scene.pieces[1], &scene.pieces[2]);
+        let h = |i: usize| s.objects[i].height;
+        assert!(matches!(a.shape, PieceShape::Cylinder { height, .. } if height == h(0)));
+        assert!((a.centre[2] - (z0 + 0.5 * h(0))).abs() < 1e-12);
+        assert!((b.centre[2] - (z0 + GOAL_WALL + 0.5 * h(1))).abs() < 1e-12);
+        assert!(matches!(c.shape, PieceShape::Box { size } if size[2] == h(2)));
+        assert!(c.mass > 0.0 && scene.robot_start.is_some());
+        assert_eq!(scene.boxes.len(), s.goals.len() + s.hands.len());
+    }
+}

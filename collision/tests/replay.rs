@@ -168,3 +168,38 @@ fn replay_of_bad_input_names_the_field_without_panicking() {
             .is_some_and(|e| e.contains("motions[0].times"))
     );
 }
+
+#[test]
+fn replay_held_piece_touching_a_hand_is_a_contact() {
+    let robot = iiwa();
+    let [x, y, z] = home_tool(&robot);
+    let shape = PieceShape::Box {
+        size: [0.04, 0.04, 0.04],
+    };
+    let piece = PhysicsPiece::standing("block", shape, [x, y], 0.0, z - 0.02);
+    let mut scene = scene(-0.4, [0.3, 0.3], vec![piece]);
+    // A hand standing on the table, its top 1 cm into the held block.
+    scene.boxes.push(SceneBox {
+        name: "hand-1".into(),
+        kind: BoxKind::Hand,
+        centre: [x + 0.04, y],
+        size: [0.06, 0.08, z - 0.02 + 0.01 + 0.4],
+        yaw: 0.0,
+        margin: 0.0,
+    });
+    let grasp = Grasp {
+        piece: "block".into(),
+        goal: None,
+        t_close: 0.0,
+        t_open: 0.2,
+    };
+    let report = replay(&scene, &robot, &[rest(&robot, 0.2, Some(grasp))]);
+    assert!(
+        report
+            .contacts
+            .iter()
+            .any(|c| c.link == "held block" && c.kind == BodyKind::Hand && c.body == "hand-1"),
+        "{:?}",
+        report.contacts
+    );
+}

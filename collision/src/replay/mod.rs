@@ -22,7 +22,8 @@
 //! goal's inner walls ([`INSIDE_TOLERANCE`]); no other piece moved more
 //! than [`MOVED_LIMIT`]; no robot link came within [`TOUCH_DISTANCE`] of the
 //! table, a box, a hand or a piece it does not hold (the fingers may close
-//! around the motion's own target), nor the held piece of a hand.
+//! around the motion's own target), the held piece no hand and no fixed
+//! body deeper than [`HELD_OVERLAP`].
 
 mod motion;
 mod report;
@@ -61,6 +62,19 @@ pub const SETTLE_TIME: f64 = 1.0;
 /// A robot body this close to another body touches it, m (rapier's contact
 /// solver holds a pushed piece at about zero distance, not below it).
 pub const TOUCH_DISTANCE: f64 = 1e-4;
+
+/// The held piece inside the table, a goal box or an obstacle by more than
+/// this is a contact, m (it rests on the table when grasped and may be set
+/// down on a floor; a hand is a contact at [`TOUCH_DISTANCE`]).
+pub const HELD_OVERLAP: f64 = 0.001;
+
+/// The distance below which the held piece touches a fixed body of `kind`.
+fn held_limit(kind: BodyKind) -> f64 {
+    match kind {
+        BodyKind::Hand => TOUCH_DISTANCE,
+        _ => -HELD_OVERLAP,
+    }
+}
 
 /// How a replay steps.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -306,29 +320,22 @@ impl<'a> Replay<'a> {
             let tag =
                 |h: rapier3d::prelude::ColliderHandle| w.physics.colliders[h].user_data as usize;
             let (a, b) = (tag(pair.collider1), tag(pair.collider2));
-            let (robot, other) = match (&w.tags[a], &w.tags[b]) {
-                (Tag::Robot(r), _) => (self.geometry.bodies[*r].name.clone(), b),
-                (_, Tag::Robot(r)) => (self.geometry.bodies[*r].name.clone(), a),
-                (
-                    Tag::Piece(p),
-                    Tag::Fixed {
-                        kind: BodyKind::Hand,
-                        ..
-                    },
-                ) if Some(*p) == held => (format!("held {}", self.scene.pieces[*p].name), b),
-                (
-                    Tag::Fixed {
-                        kind: BodyKind::Hand,
-                        ..
-                    },
-                    Tag::Piece(p),
-                ) if Some(*p) == held => (format!("held {}", self.scene.pieces[*p].name), a),
+            let held_name = |p: usize| format!("held {}", self.scene.pieces[p].name);
+            let (robot, other, limit) = match (&w.tags[a], &w.tags[b]) {
+                (Tag::Robot(r), _) => (self.geometry.bodies[*r].name.clone(), b, TOUCH_DISTANCE),
+                (_, Tag::Robot(r)) => (self.geometry.bodies[*r].name.clone(), a, TOUCH_DISTANCE),
+                (Tag::Piece(p), Tag::Fixed { kind, .. }) if Some(*p) == held => {
+                    (held_name(*p), b, held_limit(*kind))
+                }
+                (Tag::Fixed { kind, .. }, Tag::Piece(p)) if Some(*p) == held => {
+                    (held_name(*p), a, held_limit(*kind))
+                }
                 _ => continue,
             };
             let Some((_, contact)) = pair.find_deepest_contact() else {
                 continue;
             };
-            if contact.dist < TOUCH_DISTANCE {
+            if contact.dist < limit {
                 found.push((robot, other, (-contact.dist).max(0.0)));
             }
         }

@@ -65,7 +65,8 @@ pub struct PieceMotion {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LinkContact {
     /// Robot body name (`link`, `link#k` with several colliders), or
-    /// `held <piece>` for a held piece touching a hand.
+    /// `held <piece>` for the held piece (touching a hand, or more than
+    /// `HELD_OVERLAP` inside a fixed body).
     pub link: String,
     pub body: String,
     pub kind: BodyKind,
