@@ -6,7 +6,10 @@
 //! afford-planner only for data types and scenario loading and
 //! afford-kinematics only for the robot description; forward kinematics is
 //! k's (from the URDF via urdf-rs 0.9), collisions are parry3d's on a scene
-//! rebuilt here from the scenario's pixel boxes.
+//! rebuilt here from the scenario's pixel boxes. The physical replay
+//! ([`physics`], `--physics`) is a different test, not a second opinion on
+//! the planner's geometry: it runs afford-collision's rapier3d replay on
+//! this crate's reading of the scene.
 //!
 //! | what | module | class |
 //! |---|---|---|
