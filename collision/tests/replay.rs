@@ -5,7 +5,8 @@
 //! table is lower), bad input is named in the report, never a panic.
 
 use afford_collision::replay::{
-    BodyKind, Grasp, PhysicsPiece, PhysicsScene, PieceShape, ReplayMotion, replay,
+    BodyKind, Grasp, PhysicsPiece, PhysicsScene, PieceShape, ReplayMotion, ReplaySettings, replay,
+    replay_with,
 };
 use afford_collision::{BoxKind, SceneBox, TableSpec};
 use afford_kinematics::RobotModel;
@@ -61,6 +62,13 @@ fn scene(table_z: f64, goal_at: [f64; 2], pieces: Vec<PhysicsPiece>) -> PhysicsS
 
 /// A 4 cm cylinder held in the closed gripper at home, released at 0.1 s.
 fn dropped_into(goal_at: [f64; 2]) -> afford_collision::replay::ReplayReport {
+    dropped_with(goal_at, &ReplaySettings::default())
+}
+
+fn dropped_with(
+    goal_at: [f64; 2],
+    settings: &ReplaySettings,
+) -> afford_collision::replay::ReplayReport {
     let robot = iiwa();
     let [x, y, z] = home_tool(&robot);
     let shape = PieceShape::Cylinder {
@@ -75,7 +83,7 @@ fn dropped_into(goal_at: [f64; 2]) -> afford_collision::replay::ReplayReport {
         t_open: 0.1,
     };
     let scene = scene(-0.4, goal_at, vec![piece]);
-    replay(&scene, &robot, &[rest(&robot, 0.2, Some(grasp))])
+    replay_with(&scene, &robot, &[rest(&robot, 0.2, Some(grasp))], settings)
 }
 
 #[test]
@@ -88,6 +96,27 @@ fn replay_piece_released_above_the_goal_lands_inside_it() {
     assert!(t.in_goal && t.speed < 1e-3, "{t:?}");
     // It fell the 0.2 m onto the floor (table -0.4, floor 5 mm, half height 2 cm).
     assert!((t.centre[2] - (-0.4 + 0.005 + 0.02)).abs() < 1e-3, "{t:?}");
+}
+
+/// Without settling time the piece is still falling when the replay ends:
+/// not at rest, so not in its goal, though it is above it.
+#[test]
+fn replay_piece_still_falling_at_the_end_does_not_rest_in_its_goal() {
+    let robot = iiwa();
+    let [x, y, _] = home_tool(&robot);
+    let settings = ReplaySettings {
+        settle: 0.0,
+        ..ReplaySettings::default()
+    };
+    let report = dropped_with([x, y], &settings);
+    let t = &report.targets[0];
+    assert!(!t.in_goal && t.speed > 0.5, "{t:?}");
+    assert!(t.beyond_inner_walls.is_some_and(|b| b < 0.0), "{t:?}");
+    let failures = report.failures();
+    assert!(
+        failures.iter().any(|(_, m)| m.contains("puck still moves")),
+        "{failures:?}"
+    );
 }
 
 #[test]

@@ -40,13 +40,14 @@ use crate::error::{CollisionError, path_err};
 use crate::robot::RobotGeometry;
 use crate::scene::GOAL_WALL;
 
-pub use motion::{Grasp, MAX_MOTION_DURATION, MAX_MOTION_SAMPLES, ReplayMotion};
+pub use motion::{Grasp, MAX_MOTION_DURATION, MAX_MOTION_SAMPLES, MAX_MOTIONS, ReplayMotion};
 pub use report::{
-    BodyKind, INSIDE_TOLERANCE, LinkContact, MOVED_LIMIT, PieceMotion, ReplayReport, TargetOutcome,
+    BodyKind, INSIDE_TOLERANCE, LinkContact, MOVED_LIMIT, PieceMotion, REST_SPEED, ReplayReport,
+    TargetOutcome,
 };
 pub use scene::{
-    PIECE_DENSITY, PIECE_FRICTION, PIECE_MASS_RANGE, PhysicsPiece, PhysicsScene, PieceShape,
-    SURFACE_FRICTION,
+    MAX_BODIES, PIECE_DENSITY, PIECE_FRICTION, PIECE_MASS_RANGE, PhysicsPiece, PhysicsScene,
+    PieceShape, SURFACE_FRICTION,
 };
 pub use world::GRAVITY;
 
@@ -162,6 +163,15 @@ impl<'a> Replay<'a> {
     ) -> Result<Self, CollisionError> {
         settings.validate()?;
         scene.validate()?;
+        if motions.len() > MAX_MOTIONS {
+            return Err(path_err(
+                "motions",
+                format!(
+                    "{} motions, more than the {MAX_MOTIONS} accepted",
+                    motions.len()
+                ),
+            ));
+        }
         let geometry = RobotGeometry::new(robot)?;
         let q = match &scene.robot_start {
             Some(q) => {
@@ -406,15 +416,16 @@ impl<'a> Replay<'a> {
             .as_deref()
             .and_then(|name| self.scene.goal_index(name))
             .map(|gi| self.beyond_inner_walls(i, gi));
+        let speed = body.linvel().length();
         TargetOutcome {
             piece: g.piece.clone(),
             goal: g.goal.clone(),
             motion: k,
             centre: [p.x, p.y, p.z],
             rotation: [r.x, r.y, r.z, r.w],
-            speed: body.linvel().length(),
+            speed,
             beyond_inner_walls: beyond,
-            in_goal: beyond.is_none_or(|b| b <= INSIDE_TOLERANCE),
+            in_goal: speed <= REST_SPEED && beyond.is_none_or(|b| b <= INSIDE_TOLERANCE),
         }
     }
 

@@ -11,6 +11,8 @@ use crate::error::{CollisionError, path_err};
 
 /// Most samples one motion may have (100 s at 1 kHz).
 pub const MAX_MOTION_SAMPLES: usize = 100_000;
+/// Most motions one replay may have (a plan's sub-goal bound).
+pub const MAX_MOTIONS: usize = 1_000;
 /// Longest motion accepted, s (a physics step every 2 ms: 50,000 steps).
 pub const MAX_MOTION_DURATION: f64 = 100.0;
 

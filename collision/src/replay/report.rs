@@ -11,6 +11,8 @@ pub const MOVED_LIMIT: f64 = 0.005;
 /// lets resting bodies overlap by up to its allowed error (0.1 mm with
 /// afford's length unit) and a piece may lean on a wall.
 pub const INSIDE_TOLERANCE: f64 = 0.001;
+/// A target faster than this at the end has not come to rest, m/s.
+pub const REST_SPEED: f64 = 0.01;
 
 /// What a robot link touched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -42,7 +44,8 @@ pub struct TargetOutcome {
     /// is left to the nearest inner wall (< 0), m, on its bounding box in the
     /// goal's frame; `None` without a goal.
     pub beyond_inner_walls: Option<f64>,
-    /// Rests wholly inside its goal box (always true without a goal).
+    /// Rests (speed at most [`REST_SPEED`]) wholly inside its goal box
+    /// (without a goal: rests).
     pub in_goal: bool,
 }
 
@@ -121,6 +124,16 @@ impl ReplayReport {
         }
         for t in self.targets.iter().filter(|t| !t.in_goal) {
             let [x, y, z] = t.centre;
+            if t.speed > REST_SPEED {
+                out.push((
+                    Some(t.motion),
+                    format!(
+                        "{} still moves at {:.3} m/s at the end, at ({x:.4}, {y:.4}, {z:.4}) m",
+                        t.piece, t.speed
+                    ),
+                ));
+                continue;
+            }
             out.push((
                 Some(t.motion),
                 format!(

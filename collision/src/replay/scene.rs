@@ -23,6 +23,8 @@ pub const PIECE_DENSITY: f64 = 700.0;
 pub const PIECE_FRICTION: f64 = 0.5;
 /// Friction of the table, the goal boxes, the hands and the robot links.
 pub const SURFACE_FRICTION: f64 = 0.5;
+/// Most pieces plus fixed boxes one scene may have.
+pub const MAX_BODIES: usize = 1_024;
 /// Lightest and heaviest piece accepted, kg.
 pub const PIECE_MASS_RANGE: [f64; 2] = [1e-4, 100.0];
 
@@ -132,6 +134,12 @@ impl PhysicsScene {
     /// Checks what the fixed scene ([`crate::Scene::from_spec`]) does not:
     /// every piece's numbers and names.
     pub(crate) fn validate(&self) -> Result<(), CollisionError> {
+        if self.pieces.len() + self.boxes.len() > MAX_BODIES {
+            return Err(scene_err(
+                "pieces",
+                format!("more than {MAX_BODIES} pieces and boxes"),
+            ));
+        }
         for (i, p) in self.pieces.iter().enumerate() {
             let field = |f: &str| format!("pieces[{i}] ({}).{f}", p.name);
             if self.pieces[..i].iter().any(|q| q.name == p.name)
