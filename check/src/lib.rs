@@ -6,7 +6,10 @@
 //! afford-planner only for data types and scenario loading and
 //! afford-kinematics only for the robot description; forward kinematics is
 //! k's (from the URDF via urdf-rs 0.9), collisions are parry3d's on a scene
-//! rebuilt here from the scenario's pixel boxes.
+//! rebuilt here from the scenario's pixel boxes. The physical replay
+//! ([`physics`], `--physics`) is a different test, not a second opinion on
+//! the planner's geometry: it runs afford-collision's rapier3d replay on
+//! this crate's reading of the scene.
 //!
 //! | what | module | class |
 //! |---|---|---|
@@ -17,6 +20,7 @@
 //! | tool speed near hands (ISO/TS 15066) | `tool_speed` | `tool_speed` |
 //! | dense collision check (1 mm steps) | `dense`, `bodies`, `scene`, `chain` | `penetration`, `margin`, `self_collision`, `target_touched` |
 //! | grasp width, release | `placement` | `gripper_opening`, `placement` |
+//! | physical replay (rapier3d, `--physics`) | [`physics`] | `physics` |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -32,6 +36,7 @@ mod check;
 mod dense;
 mod file;
 mod format;
+pub mod physics;
 mod placement;
 mod rates;
 mod report;

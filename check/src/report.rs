@@ -41,11 +41,14 @@ pub enum ViolationClass {
     GripperOpening,
     /// The file is not a well-formed plan for this scenario and robot.
     Format,
+    /// The physical replay (`--physics`): a piece left outside its goal,
+    /// another piece moved, a link touching a hand, the table or a piece.
+    Physics,
 }
 
 impl ViolationClass {
     /// Every class, in declaration order.
-    pub const ALL: [ViolationClass; 16] = [
+    pub const ALL: [ViolationClass; 17] = [
         Self::Penetration,
         Self::Margin,
         Self::SelfCollision,
@@ -62,6 +65,7 @@ impl ViolationClass {
         Self::Placement,
         Self::GripperOpening,
         Self::Format,
+        Self::Physics,
     ];
 
     /// The snake_case name.
@@ -83,6 +87,7 @@ impl ViolationClass {
             Self::Placement => "placement",
             Self::GripperOpening => "gripper_opening",
             Self::Format => "format",
+            Self::Physics => "physics",
         }
     }
 }

@@ -92,6 +92,11 @@ pub struct CheckArgs {
     /// Print the verdict and every violation as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Also replay the plan physically (rapier3d): pieces pushed or dropped
+    /// outside their goal and links touching a hand, the table or a piece are
+    /// `physics` violations.
+    #[arg(long)]
+    pub physics: bool,
 }
 
 #[derive(Debug, clap::Args)]
