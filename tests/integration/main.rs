@@ -8,6 +8,7 @@ mod cql_properties;
 mod examples;
 mod instructions;
 mod pipeline;
+mod refusals;
 mod safety;
 mod scenario_errors;
 mod util;
