@@ -43,6 +43,20 @@ struct World {
     pieces: Vec<Piece>,
 }
 
+/// Re-checks a plan the planner returned, in memory (no JSON round trip):
+/// `check_plan(scenario, robot, &PlanFile::from(plan))`, with the robot
+/// `scenario.robot.model` loaded from `base_dir` (the folder relative
+/// robot paths start from, [`afford_planner::PlanOptions::base_dir`]).
+/// `Err` when the robot cannot be loaded; an empty report means it passed.
+pub fn check(
+    scenario: &Scenario,
+    plan: &afford_planner::Plan,
+    base_dir: &std::path::Path,
+) -> Result<Report, afford_kinematics::KinematicsError> {
+    let robot = RobotModel::load(&scenario.robot.model, base_dir)?;
+    Ok(check_plan(scenario, &robot, &PlanFile::from(plan)))
+}
+
 /// Checks `plan` against `scenario` for `robot`. Never panics on any input;
 /// an empty report means the plan passed.
 pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> Report {

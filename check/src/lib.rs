@@ -25,6 +25,16 @@
 //! let report = afford_check::check_plan(&scenario, &robot, &plan);
 //! assert_eq!(report.violations[0].class, afford_check::ViolationClass::Format);
 //! ```
+//!
+//! A plan straight from the planner, in memory:
+//!
+//! ```
+//! let scenario = afford_planner::scenario::default_scenario().unwrap();
+//! let options = afford_planner::PlanOptions::default();
+//! let plan = afford_planner::plan(&scenario, &options).unwrap();
+//! let report = afford_check::check(&scenario, &plan, &options.base_dir).unwrap();
+//! assert!(report.passed(), "{:?}", report.violations);
+//! ```
 
 mod bodies;
 mod chain;
@@ -39,7 +49,7 @@ mod scene;
 mod start;
 mod tool_speed;
 
-pub use check::check_plan;
+pub use check::{check, check_plan};
 pub use dense::{CONTACT_TOLERANCE, MAX_CONFIGURATIONS, STEP};
 pub use file::{
     MAX_GRIPPER_EVENTS, MAX_JOINTS, MAX_PLAN_BYTES, MAX_SAMPLES, MAX_SUBGOALS, PlanFile,

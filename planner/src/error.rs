@@ -102,6 +102,9 @@ pub enum PlanError {
         robot: String,
         issues: Vec<FieldIssue>,
     },
+    /// The [`crate::PlanOptions`] are out of range; each issue names its field.
+    #[error("invalid plan options:{}", issues.iter().map(|i| format!("\n  - {i}")).collect::<String>())]
+    Options { issues: Vec<FieldIssue> },
     /// Every sub-goal failed; each reason is listed by sub-goal
     /// (`reasons[k]` is "object → goal: message" of `unsolved[k]`).
     #[error("no sub-goal could be planned:{}", reasons.iter().map(|r| format!("\n  - {r}")).collect::<String>())]

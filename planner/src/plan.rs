@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::clearance::{ArmMotion, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
-use crate::error::{HitPlace, PlanError, Refusal};
+use crate::error::{FieldIssue, HitPlace, PlanError, Refusal};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
@@ -54,8 +54,77 @@ pub struct PlanOptions {
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
-    /// Folder that relative paths in the scenario (a user robot) start from.
+    /// Folder that a relative `robot.model` path starts from. The rule, the
+    /// same in the library and the CLI: a scenario read from a file resolves
+    /// it against the file's folder ([`PlanOptions::for_scenario_file`],
+    /// what `afford` does); a scenario built in code against `base_dir`,
+    /// by default the current directory.
     pub base_dir: PathBuf,
+}
+
+/// Most re-plans a sub-goal may take ([`PlanOptions::max_replans`]).
+pub const MAX_REPLANS: usize = 64;
+
+/// Largest clearance or step of [`LiftSettings`], m.
+const MAX_LIFT_LENGTH_M: f64 = 1.0;
+
+impl PlanOptions {
+    /// These options with `base_dir` set to the folder of the scenario file
+    /// at `path` (the rule on [`PlanOptions::base_dir`]).
+    pub fn for_scenario_file(self, path: &std::path::Path) -> Self {
+        Self {
+            base_dir: crate::scenario::base_dir(path),
+            ..self
+        }
+    }
+
+    /// Every problem with the options, each naming its field
+    /// (`timing.rate_hz`, `lift.max_step`, …); [`Planner::plan`] runs it
+    /// first. `Err` is [`PlanError::Options`].
+    pub fn validate(&self) -> Result<(), PlanError> {
+        let mut issues = Vec::new();
+        if let Err(e) = crate::scenario::bounds::check_rate(self.timing.rate_hz) {
+            issues.push(FieldIssue::new("timing.rate_hz", e));
+        } else if let Err(e) = self.timing.validate() {
+            issues.push(FieldIssue::new("timing", e.to_string()));
+        }
+        if let Err(e) = self.ik.validate() {
+            issues.push(FieldIssue::new("ik", e.to_string()));
+        }
+        let l = &self.lift;
+        for (field, value) in [
+            ("approach_clearance", l.approach_clearance),
+            ("carry_clearance", l.carry_clearance),
+            ("release_clearance", l.release_clearance),
+            ("min_grasp_height", l.min_grasp_height),
+            ("max_step", l.max_step),
+            ("tip_clearance", l.tip_clearance),
+            ("palm_clearance", l.palm_clearance),
+            ("min_grip_depth", l.min_grip_depth),
+            ("opening_clearance", l.opening_clearance),
+        ] {
+            let positive = field != "max_step" || value > 0.0;
+            if !(value.is_finite() && (0.0..=MAX_LIFT_LENGTH_M).contains(&value) && positive) {
+                issues.push(FieldIssue::new(
+                    format!("lift.{field}"),
+                    format!(
+                        "must be between 0 and {MAX_LIFT_LENGTH_M} m{}, got {value}",
+                        if positive { "" } else { " and above 0" }
+                    ),
+                ));
+            }
+        }
+        if self.max_replans > MAX_REPLANS {
+            issues.push(FieldIssue::new(
+                "max_replans",
+                format!("must be at most {MAX_REPLANS}, got {}", self.max_replans),
+            ));
+        }
+        match issues.is_empty() {
+            true => Ok(()),
+            false => Err(PlanError::Options { issues }),
+        }
+    }
 }
 
 impl Default for PlanOptions {
@@ -217,13 +286,15 @@ impl Planner {
 
     /// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
     /// `options.until`. `Err` when the input is bad (instruction not
-    /// executable, robot cannot be loaded) or no sub-goal could be planned;
+    /// executable, robot cannot be loaded, options or scenario invalid —
+    /// the same errors a scenario file gets) or no sub-goal could be planned;
     /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
     pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
         let options = &self.options;
+        options.validate()?;
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
-        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        scenario.validate()?;
         let mut timings = StageTimings::default();
         let Interpretation {
             subgoals: goals,

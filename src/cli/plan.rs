@@ -29,7 +29,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         ..PlanOptions::default()
     };
     let plan = plan(&scenario, &options).map_err(|e| match e {
-        PlanError::Scenario(_) | PlanError::Robot(_) => {
+        PlanError::Scenario(_) | PlanError::Robot(_) | PlanError::Options { .. } => {
             Failure::new(ExitKind::BadInput, e.to_string())
         }
         PlanError::RobotState { .. } => {
@@ -68,12 +68,11 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     ))
 }
 
-/// The folder a scenario's relative paths start from: the file's folder.
+/// The folder a scenario's relative paths start from: the file's folder
+/// (the library's rule, [`scenario::base_dir`]); the current directory for
+/// the built-in scenario.
 pub fn base_dir(scenario: Option<&Path>) -> PathBuf {
-    scenario
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default()
+    scenario.map_or_else(|| PathBuf::from("."), scenario::base_dir)
 }
 
 /// The scenario's robot (`robot.model`), loaded as `plan` would: an unknown

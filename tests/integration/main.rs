@@ -1,6 +1,7 @@
 //! afford's integration tests: one test binary (ripgrep's layout) with a
 //! module per topic. Fixtures live in tests/fixtures/.
 
+mod api;
 mod cases;
 mod check;
 mod cli;
