@@ -8,7 +8,16 @@ use std::process::Command;
 fn dependency_names(features: &[&str]) -> Vec<String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let output = Command::new(cargo)
-        .args(["tree", "--offline", "-p", "afford", "-e", "normal", "--prefix", "none"])
+        .args([
+            "tree",
+            "--offline",
+            "-p",
+            "afford",
+            "-e",
+            "normal",
+            "--prefix",
+            "none",
+        ])
         .args(features)
         .current_dir(crate::util::repo())
         .output()

@@ -10,6 +10,7 @@ mod examples;
 mod features;
 mod instructions;
 mod pipeline;
+mod plan_output;
 mod refusals;
 mod safety;
 mod scenario_errors;
