@@ -131,3 +131,20 @@ fn validate_reports_the_share_of_the_table_each_perimeter_covers() {
         ],
     );
 }
+
+/// The README's scenario example, as written there.
+fn readme_scenario() -> String {
+    let readme = std::fs::read_to_string(crate::util::repo().join("README.md")).unwrap();
+    let section = &readme[readme.find("## Scenario format (version 1)").expect("section")..];
+    let start = section.find("```yaml\n").expect("yaml block") + "```yaml\n".len();
+    let end = start + section[start..].find("```").expect("block end");
+    section[start..end].to_string()
+}
+
+#[test]
+fn readme_example_scenario_plans_as_written() {
+    let s = scenario::parse(&readme_scenario(), Format::Yaml, "README.md").expect("valid");
+    let p = plan(&s, &PlanOptions::default()).expect("the README's scene plans");
+    assert!(p.unsolved.is_empty(), "{:?}", p.unsolved);
+    assert!(p.subgoals.iter().all(|sg| sg.trajectory.is_some()));
+}
