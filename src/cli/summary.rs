@@ -84,7 +84,9 @@ mod tests {
         let plan = afford_planner::plan(&scenario, &Default::default()).unwrap();
         let text = summary(&plan);
         assert!(
-            text.starts_with("sort-blue-squares: 3 of 3 sub-goals planned (seed 1, until trajectory)"),
+            text.starts_with(
+                "sort-blue-squares: 3 of 3 sub-goals planned (seed 1, until trajectory)"
+            ),
             "{text}"
         );
         let first = text.lines().nth(1).unwrap();

@@ -135,7 +135,9 @@ fn validate_reports_the_share_of_the_table_each_perimeter_covers() {
 /// The README's scenario example, as written there.
 fn readme_scenario() -> String {
     let readme = std::fs::read_to_string(crate::util::repo().join("README.md")).unwrap();
-    let section = &readme[readme.find("## Scenario format (version 1)").expect("section")..];
+    let section = &readme[readme
+        .find("## Scenario format (version 1)")
+        .expect("section")..];
     let start = section.find("```yaml\n").expect("yaml block") + "```yaml\n".len();
     let end = start + section[start..].find("```").expect("block end");
     section[start..end].to_string()
@@ -147,4 +149,35 @@ fn readme_example_scenario_plans_as_written() {
     let p = plan(&s, &PlanOptions::default()).expect("the README's scene plans");
     assert!(p.unsolved.is_empty(), "{:?}", p.unsolved);
     assert!(p.subgoals.iter().all(|sg| sg.trajectory.is_some()));
+}
+
+#[test]
+fn yaml_reader_internals_are_said_in_the_authors_terms() {
+    let dup = scenario::DEFAULT_SCENARIO.replace("name: sort-blue-squares", "name: a\nname: b");
+    let e = scenario::parse(&dup, Format::Yaml, "dup.yaml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("dup.yaml:"), "{e}");
+    assert_contains_all(
+        "duplicate key",
+        &e,
+        &["`name` is given twice", "duplicate key"],
+    );
+    assert!(!e.contains("DuplicateKeyPolicy"), "{e}");
+    let big = format!("afford: 1\nsensitive: [{}]\n", vec!["x"; 300_000].join(","));
+    let e = scenario::parse(&big, Format::Yaml, "big.yaml")
+        .unwrap_err()
+        .to_string();
+    assert_contains_all(
+        "budget",
+        &e,
+        &[
+            "big.yaml:2:",
+            "sensitive: the file is too large for a scenario: more than 250000 values",
+        ],
+    );
+    assert!(
+        !e.contains("budget breached") && !e.contains("Nodes"),
+        "{e}"
+    );
 }
