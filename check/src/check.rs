@@ -235,8 +235,8 @@ fn subgoal(
             .map(|&j| &r.model.joints()[j])
             .collect(),
     };
-    for (class, message) in rates::check(&joints, points, &windows) {
-        report.push(class, Some(k), message);
+    for (class, message, data) in rates::check(&joints, points, &windows) {
+        report.push_with(class, Some(k), message, data);
     }
     let events = match events {
         Ok(e) => e,
@@ -404,7 +404,7 @@ impl Phases<'_> {
         let mut findings = Findings::new();
         phases.iter().for_each(|p| p.run(&mut findings));
         for (key, f) in &findings {
-            report.push(key.0, Some(k), dense::describe(key, f));
+            report.push_with(key.0, Some(k), dense::describe(key, f), dense::data(key, f));
         }
         Ok(())
     }

@@ -58,7 +58,7 @@ pub use file::{
 pub use format::{EVENT_TIME_TOLERANCE, MAX_ABS_POSITION, MAX_ABS_RATE, MAX_TIME};
 pub use placement::PLACEMENT_TOLERANCE;
 pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
-pub use report::{Report, Violation, ViolationClass};
+pub use report::{Report, Violation, ViolationClass, ViolationData};
 pub use scene::{GOAL_WALL, TABLE_THICKNESS};
 pub use start::{START_TILT, START_TOLERANCE};
 pub use tool_speed::TOOL_SPEED_TOLERANCE;

@@ -181,3 +181,52 @@ fn yaml_reader_internals_are_said_in_the_authors_terms() {
         "{e}"
     );
 }
+
+#[test]
+fn check_violations_carry_typed_data_beside_the_message() {
+    let scenario = scenario::default_scenario().unwrap();
+    let options = PlanOptions::default();
+    let mut p = plan(&scenario, &options).unwrap();
+    // A hand put on the first route after planning: the margin class names
+    // the body, the hand, the time and the sample, and how near.
+    let mid = p.subgoals[0].path_px[p.subgoals[0].path_px.len() / 2];
+    let mut with_hand = scenario.clone();
+    let hand = format!(
+        "hands:\n  - {{name: intruding-hand, box: [{}, {}, 30, 30], height: 0.06}}\ninstruction:",
+        mid[0] - 15.0,
+        mid[1] - 15.0
+    );
+    with_hand.hands = scenario::parse(
+        &scenario::DEFAULT_SCENARIO.replace("instruction:", &hand),
+        Format::Yaml,
+        "hand.yaml",
+    )
+    .unwrap()
+    .hands;
+    let report = afford::check::check(&with_hand, &p, &options.base_dir).unwrap();
+    let margin = report
+        .violations
+        .iter()
+        .find(|v| v.data.other.as_deref() == Some("intruding-hand"))
+        .expect("the hand's margin is entered");
+    let d = &margin.data;
+    assert!(
+        d.body.is_some() && d.time_s.is_some() && d.sample.is_some(),
+        "{d:?}"
+    );
+    assert!(d.distance_m.unwrap() < d.margin_m.unwrap(), "{d:?}");
+    let json = serde_json::to_value(margin).unwrap();
+    assert_eq!(json["other"], "intruding-hand");
+    assert_eq!(json["message"], margin.message.as_str());
+    // A joint pushed past its limit: the position class names the joint.
+    let trajectory = p.subgoals[0].trajectory.as_mut().unwrap();
+    for point in &mut trajectory.points[30..33] {
+        point.positions[3] = -2.12;
+    }
+    let report = afford::check::check(&scenario, &p, &options.base_dir).unwrap();
+    let position = report
+        .of(afford::check::ViolationClass::Position)
+        .next()
+        .expect("the limit is broken");
+    assert_eq!(position.data.joint.as_deref(), Some("joint_a4"));
+}
