@@ -421,7 +421,7 @@ mod tests {
         assert!(
             found
                 .iter()
-                .any(|(c, m)| *c == ViolationClass::Acceleration && m.contains("recomputed")),
+                .any(|(c, m, _)| *c == ViolationClass::Acceleration && m.contains("recomputed")),
             "{found:?}"
         );
     }
