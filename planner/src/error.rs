@@ -597,6 +597,9 @@ mod tests {
         let v = json(&r);
         assert_eq!(v["kind"], "joint_limit");
         assert_eq!(v["arms"][0]["arm"], "left");
+        assert_eq!(v["arms"][0]["phase"], "grasp");
+        assert_eq!(v["arms"][0]["cause"]["kind"], "joint_limit");
+        assert_eq!(v["arms"][0]["cause"]["joint"], "joint_a4");
         assert_eq!(
             r.to_string(),
             "grasp waypoint 4 is out of reach of the arm 'left': target needs joint 'joint_a4' beyond its limit"

@@ -200,7 +200,7 @@ fn refusal_unreachable_names_arm_and_waypoint() {
     let arm = &json["refusal"]["arms"][0];
     assert_eq!(arm["arm"], "arm");
     assert!(arm["waypoint"].is_u64());
-    assert!(arm["cause"].is_object(), "{arm}");
+    assert_eq!(arm["cause"]["kind"], "out_of_reach", "{arm}");
     assert!(
         u.reason.contains("out of reach of the arm 'arm'") && !u.reason.contains("arm arm"),
         "{}",
