@@ -220,3 +220,39 @@ fn refusal_kinds_are_distinct_snake_case() {
             .all(|k| k.chars().all(|c| c.is_ascii_lowercase() || c == '_'))
     );
 }
+
+/// Every refusal message of the safety campaign's first scenes (both
+/// robots, many kinds) says where without ambiguity and nothing the user
+/// cannot read: no negative "violated by", no "arm arm", no path parameter
+/// `t=` of the collision library, no Debug form; its JSON has the kind,
+/// the message and the reason.
+#[test]
+fn refusal_messages_of_random_scenes_are_unambiguous() {
+    let mut seen = std::collections::BTreeSet::new();
+    for k in 0..16 {
+        let s = afford::planner::bench::scenes::scene(1, k);
+        let unsolved = match plan(&s, &PlanOptions::default()) {
+            Ok(p) => p.unsolved,
+            Err(PlanError::Unsolvable { unsolved, .. }) => unsolved,
+            Err(_) => continue,
+        };
+        for u in &unsolved {
+            seen.insert(u.refusal.kind());
+            let m = &u.reason;
+            for bad in ["violated by -", "arm arm", " t=", "{ ", "Some(", "<goal"] {
+                assert!(!m.contains(bad), "scene {k}: {bad:?} in {m}");
+            }
+            if u.refusal.kind() == "collides" {
+                assert!(
+                    m.contains("waypoint") || m.contains(" s into ") || m.contains("park"),
+                    "{m}"
+                );
+            }
+            assert_json(u, u.refusal.kind());
+        }
+    }
+    assert!(
+        seen.len() >= 2,
+        "the scenes refuse in several ways: {seen:?}"
+    );
+}

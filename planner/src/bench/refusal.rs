@@ -1,19 +1,21 @@
 //! Refusal kinds for the safety campaign's counts: the typed kind of each
-//! refused sub-goal ([`Refusal::kind`]), plus `instruction` and `other` for
-//! a plan refused before any sub-goal ran.
+//! refused sub-goal ([`Refusal::kind`]), plus, for a plan refused before any
+//! sub-goal ran, `robot_state` (the robot's start does not fit it, e.g. no
+//! arm reaches `robot.start`), `instruction` and `other`.
 
 use crate::error::{PlanError, Refusal};
 
 /// Every kind the campaign counts, in report order.
-pub const REFUSAL_KINDS: [&str; Refusal::KINDS.len() + 2] = {
-    let mut out = [""; Refusal::KINDS.len() + 2];
+pub const REFUSAL_KINDS: [&str; Refusal::KINDS.len() + 3] = {
+    let mut out = [""; Refusal::KINDS.len() + 3];
     let mut k = 0;
     while k < Refusal::KINDS.len() {
         out[k] = Refusal::KINDS[k];
         k += 1;
     }
-    out[k] = "instruction";
-    out[k + 1] = "other";
+    out[k] = "robot_state";
+    out[k + 1] = "instruction";
+    out[k + 2] = "other";
     out
 };
 
@@ -30,6 +32,7 @@ pub fn error_refusals(e: &PlanError) -> Vec<(&'static str, String)> {
             })
             .collect(),
         PlanError::Instruction(i) => vec![("instruction", i.to_string())],
+        PlanError::RobotState { .. } => vec![("robot_state", e.to_string())],
         other => vec![("other", other.to_string())],
     }
 }
@@ -45,6 +48,11 @@ mod tests {
             assert_eq!(REFUSAL_KINDS.iter().filter(|k| **k == kind).count(), 1);
         }
         assert_eq!(REFUSAL_KINDS[REFUSAL_KINDS.len() - 2], "instruction");
+        let state = PlanError::RobotState {
+            robot: "kuka_iiwa14".into(),
+            issues: Vec::new(),
+        };
+        assert_eq!(error_refusals(&state)[0].0, "robot_state");
     }
 
     #[test]

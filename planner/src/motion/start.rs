@@ -271,7 +271,7 @@ fn hover(
         }
     }
     Err(format!(
-        "no arm can hover over pixel ({}, {}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
+        "no arm can hover over pixel ({:.1}, {:.1}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
          give the robot's joint state in robot.joints",
         px[0],
         px[1],
