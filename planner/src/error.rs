@@ -510,7 +510,7 @@ fn collision_message(r: &Refusal) -> String {
             mm(clearance_m)
         ),
     };
-    format!("the motion collides {place}: {body} of the arm '{arm}' {what}")
+    format!("the motion of the arm '{arm}' collides {place}: {body} {what}")
 }
 
 #[cfg(test)]
@@ -550,7 +550,7 @@ mod tests {
         assert_eq!(v["place"]["waypoint"], 3);
         assert_eq!(
             r.to_string(),
-            "the motion collides at carry waypoint 3: iiwa_link_7 of the arm 'arm' comes 4.0 mm \
+            "the motion of the arm 'arm' collides at carry waypoint 3: iiwa_link_7 comes 4.0 mm \
              inside the 10.0 mm safety perimeter of red-square-1 (6.0 mm from it)"
         );
     }
