@@ -8,14 +8,14 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use afford_collision::RobotGeometry;
+use afford_collision::{Collision, RobotGeometry};
 use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
 use crate::clearance::{ArmMotion, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
-use crate::error::PlanError;
+use crate::error::{FieldIssue, HitPlace, PlanError, Refusal};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
@@ -54,8 +54,77 @@ pub struct PlanOptions {
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
-    /// Folder that relative paths in the scenario (a user robot) start from.
+    /// Folder that a relative `robot.model` path starts from. The rule, the
+    /// same in the library and the CLI: a scenario read from a file resolves
+    /// it against the file's folder ([`PlanOptions::for_scenario_file`],
+    /// what `afford` does); a scenario built in code against `base_dir`,
+    /// by default the current directory.
     pub base_dir: PathBuf,
+}
+
+/// Most re-plans a sub-goal may take ([`PlanOptions::max_replans`]).
+pub const MAX_REPLANS: usize = 64;
+
+/// Largest clearance or step of [`LiftSettings`], m.
+const MAX_LIFT_LENGTH_M: f64 = 1.0;
+
+impl PlanOptions {
+    /// These options with `base_dir` set to the folder of the scenario file
+    /// at `path` (the rule on [`PlanOptions::base_dir`]).
+    pub fn for_scenario_file(self, path: &std::path::Path) -> Self {
+        Self {
+            base_dir: crate::scenario::base_dir(path),
+            ..self
+        }
+    }
+
+    /// Every problem with the options, each naming its field
+    /// (`timing.rate_hz`, `lift.max_step`, …); [`Planner::plan`] runs it
+    /// first. `Err` is [`PlanError::Options`].
+    pub fn validate(&self) -> Result<(), PlanError> {
+        let mut issues = Vec::new();
+        if let Err(e) = crate::scenario::bounds::check_rate(self.timing.rate_hz) {
+            issues.push(FieldIssue::new("timing.rate_hz", e));
+        } else if let Err(e) = self.timing.validate() {
+            issues.push(FieldIssue::new("timing", e.to_string()));
+        }
+        if let Err(e) = self.ik.validate() {
+            issues.push(FieldIssue::new("ik", e.to_string()));
+        }
+        let l = &self.lift;
+        for (field, value) in [
+            ("approach_clearance", l.approach_clearance),
+            ("carry_clearance", l.carry_clearance),
+            ("release_clearance", l.release_clearance),
+            ("min_grasp_height", l.min_grasp_height),
+            ("max_step", l.max_step),
+            ("tip_clearance", l.tip_clearance),
+            ("palm_clearance", l.palm_clearance),
+            ("min_grip_depth", l.min_grip_depth),
+            ("opening_clearance", l.opening_clearance),
+        ] {
+            let positive = field != "max_step" || value > 0.0;
+            if !(value.is_finite() && (0.0..=MAX_LIFT_LENGTH_M).contains(&value) && positive) {
+                issues.push(FieldIssue::new(
+                    format!("lift.{field}"),
+                    format!(
+                        "must be between 0 and {MAX_LIFT_LENGTH_M} m{}, got {value}",
+                        if positive { "" } else { " and above 0" }
+                    ),
+                ));
+            }
+        }
+        if self.max_replans > MAX_REPLANS {
+            issues.push(FieldIssue::new(
+                "max_replans",
+                format!("must be at most {MAX_REPLANS}, got {}", self.max_replans),
+            ));
+        }
+        match issues.is_empty() {
+            true => Ok(()),
+            false => Err(PlanError::Options { issues }),
+        }
+    }
 }
 
 impl Default for PlanOptions {
@@ -149,11 +218,27 @@ pub struct GridInfo {
     pub origin_px: [f64; 2],
 }
 
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+/// A sub-goal that could not be planned: `reason` is the message a person
+/// reads, `refusal` the typed kind and data a program branches on (JSON
+/// `{"kind": ..., ...fields, "message": ...}`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UnsolvedSubgoal {
     pub object: String,
     pub goal: String,
     pub reason: String,
+    #[serde(serialize_with = "crate::error::serialize_explained")]
+    pub refusal: Refusal,
+}
+
+impl UnsolvedSubgoal {
+    pub fn new(goal: &SubGoal, refusal: Refusal) -> Self {
+        Self {
+            object: goal.object.clone(),
+            goal: goal.goal.clone(),
+            reason: refusal.to_string(),
+            refusal,
+        }
+    }
 }
 
 /// Time spent in each named stage, summed over sub-goals.
@@ -201,13 +286,15 @@ impl Planner {
 
     /// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
     /// `options.until`. `Err` when the input is bad (instruction not
-    /// executable, robot cannot be loaded) or no sub-goal could be planned;
+    /// executable, robot cannot be loaded, options or scenario invalid —
+    /// the same errors a scenario file gets) or no sub-goal could be planned;
     /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
     pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
         let options = &self.options;
+        options.validate()?;
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
-        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        scenario.validate()?;
         let mut timings = StageTimings::default();
         let Interpretation {
             subgoals: goals,
@@ -279,11 +366,7 @@ impl Planner {
                     world.advance(request, &done);
                     plan.subgoals.push(done);
                 }
-                Err(reason) => plan.unsolved.push(UnsolvedSubgoal {
-                    object: goal.object.clone(),
-                    goal: goal.goal.clone(),
-                    reason,
-                }),
+                Err(refusal) => plan.unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
             }
         }
         plan.timings = timings;
@@ -293,7 +376,10 @@ impl Planner {
                 .iter()
                 .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
                 .collect();
-            return Err(PlanError::Unsolvable { reasons });
+            return Err(PlanError::Unsolvable {
+                reasons,
+                unsolved: plan.unsolved,
+            });
         }
         Ok(plan)
     }
@@ -327,7 +413,7 @@ impl Planner {
         request: GridRequest,
         seed: u64,
         timings: &mut StageTimings,
-    ) -> Result<SubgoalPlan, String> {
+    ) -> Result<SubgoalPlan, Refusal> {
         let mut retry = Retry::default();
         loop {
             let hit = match self.attempt(world, goal, request, &retry, seed, timings)? {
@@ -344,7 +430,7 @@ impl Planner {
                 {
                     retry.turn += 1
                 }
-                _ => return Err(format!("the motion collides: {}", hit.message)),
+                _ => return Err(hit.refusal),
             }
         }
     }
@@ -359,7 +445,7 @@ impl Planner {
         retry: &Retry,
         seed: u64,
         timings: &mut StageTimings,
-    ) -> Result<Attempt, String> {
+    ) -> Result<Attempt, Refusal> {
         let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
         if let Some(gripper) = &world.gripper {
             grasp_pose(
@@ -379,24 +465,27 @@ impl Planner {
         let Some(optimal) = oracle::optimal_length(&task) else {
             return Err(match blocked.is_empty() {
                 true => why_unsolvable(scene, request, opening(world)),
-                false => format!(
-                    "no route is left once {} cells the arm collides over are blocked",
-                    blocked.len()
-                ),
+                false => Refusal::NoRoute {
+                    object: scene.objects[request.object].name.clone(),
+                    goal: scene.goals[request.goal].name.clone(),
+                    blocked_cells: blocked.len(),
+                },
             });
         };
         if !learned.solved {
-            return Err(format!(
-                "the learner found no plan within {} training steps",
-                learned.training_steps
-            ));
+            return Err(Refusal::LearnerBudget {
+                training_steps: learned.training_steps,
+            });
         }
         let mut done = subgoal_plan(goal, &task, &learned, optimal);
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
         let Some(gripper) = &world.gripper else {
-            return Err("the robot is needed to lift the plan".to_string());
+            return Err(Refusal::internal(
+                "lift",
+                "the robot is needed to lift the plan",
+            ));
         };
         let mut motion = timed(&mut timings.lift, || {
             lift(
@@ -458,9 +547,11 @@ impl Planner {
         };
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
-        })? {
+        })
+        .map_err(|e| Refusal::internal("collision", e))?
+        {
             return Ok(Attempt::Collides(Box::new(Replan::of(
-                hit, offset, scene, &task, &motion,
+                hit, offset, scene, &task, &motion, &arm.name,
             ))));
         }
         if options.until >= Stage::Trajectory {
@@ -488,11 +579,14 @@ impl Planner {
             };
             if let Some(hit) = timed(&mut timings.collision, || {
                 check_motion(robot, geometry, &verify)
-            })? {
-                let t = timed_motion.points[hit.index].time_from_start;
-                return Err(format!(
-                    "the timed trajectory collides at t = {t:.3} s: {}",
-                    hit.collision
+            })
+            .map_err(|e| Refusal::internal("collision", e))?
+            {
+                let time_s = timed_motion.points[hit.index].time_from_start;
+                return Err(collides(
+                    &arm.name,
+                    &hit.collision,
+                    HitPlace::Trajectory { time_s },
                 ));
             }
             done.trajectory = Some(timed_motion);
@@ -544,8 +638,8 @@ enum Attempt {
 
 /// A collision the grid did not see, and the cell to block for the next pass.
 struct Replan {
-    /// The collision in words, with the waypoint and phase where it happens.
-    message: String,
+    /// The collision with the waypoint and phase where it happens.
+    refusal: Refusal,
     /// The cell under the colliding waypoint, when it is a travel or carry
     /// waypoint over a cell that may be blocked (not the start, the target or
     /// the goal).
@@ -564,22 +658,17 @@ impl Replan {
         scene: &Scenario,
         task: &GridTask,
         motion: &LiftedMotion,
+        arm: &str,
     ) -> Self {
         let grid = &task.grid;
         let at = hit
             .index
             .checked_sub(offset)
             .and_then(|i| motion.waypoint_of(i));
-        let message = match at {
-            Some((k, phase)) => format!(
-                "{} waypoint {k}: {}",
-                format!("{phase:?}").to_lowercase(),
-                hit.collision
-            ),
-            None if hit.index <= offset => {
-                format!("on the way to the first waypoint: {}", hit.collision)
-            }
-            None => format!("returning to park: {}", hit.collision),
+        let place = match at {
+            Some((waypoint, phase)) => HitPlace::Waypoint { phase, waypoint },
+            None if hit.index <= offset => HitPlace::ToFirstWaypoint,
+            None => HitPlace::ReturningToPark,
         };
         let cell = at
             .filter(|(_, phase)| matches!(phase, Phase::Travel | Phase::Carry))
@@ -595,7 +684,7 @@ impl Replan {
             )
         });
         Self {
-            message,
+            refusal: collides(arm, &hit.collision, place),
             replannable_cell: cell,
             at_grasp,
         }
@@ -751,16 +840,31 @@ fn opening(world: &World) -> Option<[f64; 2]> {
     world.gripper.map(|g| g.finger_half_extent)
 }
 
-/// Why the oracle finds no plan, in words a user can act on.
-fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> String {
+/// The refusal of a collision `hit` of `arm` at `place`.
+fn collides(arm: &str, hit: &Collision, place: HitPlace) -> Refusal {
+    Refusal::Collides {
+        arm: arm.to_string(),
+        body: hit.body.clone(),
+        other: hit.other.clone(),
+        hit: hit.kind,
+        place,
+        clearance_m: hit.clearance,
+        penetration_m: hit.penetration,
+        margin_m: hit.margin,
+        depth_m: hit.margin_violation.max(0.0),
+    }
+}
+
+/// Why the oracle finds no plan, in terms a user can act on.
+fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> Refusal {
     let grid = StateGrid::build_placing(scene, request, opening);
-    let object = &scene.objects[request.object].name;
-    let goal = &scene.goals[request.goal].name;
+    let object = scene.objects[request.object].name.clone();
+    let goal = scene.goals[request.goal].name.clone();
     if grid.code(grid.target) == CellCode::Hand {
-        return format!("a hand covers {object}");
+        return Refusal::HandCoversTarget { object };
     }
     if grid.code(grid.start) == CellCode::Hand {
-        return "a hand's perimeter covers the gripper: wait for the hand to move".to_string();
+        return Refusal::HandCoversGripper;
     }
     if let Err(no_spot) = grid.release {
         return no_spot.reason(scene, request.object, request.goal);
@@ -771,7 +875,11 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 
     };
     let grid = StateGrid::build_placing(&without_hands, request, opening);
     if oracle::optimal_length(&GridTask::new(grid)).is_some() {
-        return "hand blocks every route".to_string();
+        return Refusal::HandBlocksRoute { object, goal };
     }
-    format!("no free route from the gripper to {object} and on to the {goal}")
+    Refusal::NoRoute {
+        object,
+        goal,
+        blocked_cells: 0,
+    }
 }

@@ -5,6 +5,7 @@ mod check;
 mod output;
 mod plan;
 mod robots;
+mod summary;
 mod validate;
 
 use std::path::PathBuf;
@@ -42,9 +43,10 @@ pub struct PlanArgs {
     /// Seed for every random choice; same scenario + same seed gives byte-identical output.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
-    pub format: OutputFormat,
+    /// Output format [default: summary on a terminal, json when piped or
+    /// written with -o].
+    #[arg(long, value_enum)]
+    pub format: Option<OutputFormat>,
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -145,6 +147,8 @@ pub enum OutputFormat {
     Yaml,
     /// One row per trajectory sample.
     Csv,
+    /// A few lines for a person (`afford plan` only).
+    Summary,
 }
 
 #[derive(Debug, Subcommand)]

@@ -39,7 +39,7 @@ fn robot(s: &Scenario) -> (RobotModel, RobotGeometry) {
 /// The reasons of a plan whose every sub-goal was refused.
 fn refusals(result: Result<Plan, PlanError>) -> Vec<String> {
     match result {
-        Err(PlanError::Unsolvable { reasons }) => reasons,
+        Err(PlanError::Unsolvable { reasons, .. }) => reasons,
         other => panic!("expected every sub-goal refused, got {other:?}"),
     }
 }

@@ -1,14 +1,18 @@
 //! afford's integration tests: one test binary (ripgrep's layout) with a
 //! module per topic. Fixtures live in tests/fixtures/.
 
+mod api;
 mod cases;
 mod check;
 mod cli;
 mod cql_properties;
 mod examples;
+mod features;
 mod instructions;
 mod physics;
 mod pipeline;
+mod plan_output;
+mod refusals;
 mod safety;
 mod scenario_errors;
 mod util;

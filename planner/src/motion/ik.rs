@@ -8,6 +8,7 @@ use afford_kinematics::{ArmChoice, IkTarget, PathSettings, RobotModel, Vec3, cho
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::error::{ArmFailure, Refusal};
 use crate::lift::LiftedMotion;
 
 /// The IK targets of a lifted motion.
@@ -23,34 +24,30 @@ pub fn ik_targets(motion: &LiftedMotion) -> Vec<IkTarget> {
 }
 
 /// Chooses the arm and solves the joint path for `motion` from the whole-robot
-/// configuration `current`. `Err` is the reason in words ("goal unreachable
-/// for arm left: …").
+/// configuration `current`. `Err` names each arm's first unreachable
+/// waypoint ([`Refusal::Unreachable`], [`Refusal::JointLimit`]).
 pub fn solve_motion(
     robot: &RobotModel,
     motion: &LiftedMotion,
     current: &[f64],
     settings: &PathSettings,
     seed: u64,
-) -> Result<ArmChoice, String> {
+) -> Result<ArmChoice, Refusal> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let targets = ik_targets(motion);
     match choose_arm(robot, &targets, current, settings, &mut rng) {
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(Refusal::internal("IK", e)),
         Ok(Ok(choice)) => Ok(choice),
-        Ok(Err(none)) => Err(none
-            .failures
-            .iter()
-            .map(|(arm, f)| {
-                let phase = motion
-                    .waypoints
-                    .get(f.index)
-                    .map_or("?".to_string(), |w| format!("{:?}", w.phase).to_lowercase());
-                format!(
-                    "{phase} waypoint {} unreachable for arm {arm}: {}",
-                    f.index, f.reason
-                )
-            })
-            .collect::<Vec<_>>()
-            .join("; ")),
+        Ok(Err(none)) => Err(Refusal::unreachable(
+            none.failures
+                .into_iter()
+                .map(|(arm, f)| ArmFailure {
+                    arm,
+                    waypoint: f.index,
+                    phase: motion.waypoints.get(f.index).map(|w| w.phase),
+                    cause: f.reason,
+                })
+                .collect(),
+        )),
     }
 }

@@ -34,6 +34,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::Refusal;
 use crate::grid::Cell;
 use crate::scenario::{Object, Scenario};
 use crate::smooth::smooth_path;
@@ -184,7 +185,7 @@ pub fn lift(
     cells: &[Cell],
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<LiftedMotion, String> {
+) -> Result<LiftedMotion, Refusal> {
     let grid = &task.grid;
     let held = &scenario.objects[object];
     let table = scenario.camera.table_z;
@@ -268,7 +269,7 @@ pub fn grasp_pose(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), Refusal> {
     Ok((
         grasp_yaw(s, held, gripper, settings)?,
         grasp_height(s, held, gripper, settings)?,
@@ -282,7 +283,7 @@ pub fn grasp_height(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<f64, String> {
+) -> Result<f64, Refusal> {
     let h = held.height;
     let margin = s.safety.obstacle_margin;
     let grasp = (h / 2.0)
@@ -295,13 +296,14 @@ pub fn grasp_height(
     if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
         return Ok(grasp);
     }
-    Err(format!(
-        "{} is {h:.3} m tall: with the palm {margin:.3} m above its top the fingers ({:.3} m long) reach {:.1} mm below it, less than half its height or {:.1} mm",
-        held.name,
-        gripper.finger_length,
-        depth.max(0.0) * 1e3,
-        settings.min_grip_depth * 1e3
-    ))
+    Err(Refusal::TooTallForFingers {
+        object: held.name.clone(),
+        height_m: h,
+        palm_gap_m: margin,
+        finger_length_m: gripper.finger_length,
+        grip_depth_m: depth.max(0.0),
+        min_grip_depth_m: settings.min_grip_depth,
+    })
 }
 
 /// Carry height (metres above the table top) of a sub-goal that moves
@@ -355,18 +357,17 @@ pub fn grasp_yaw(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<f64, String> {
+) -> Result<f64, Refusal> {
     let [mu, mv] = s.metres_per_pixel();
     let (along_u, along_v) = (held.bbox.w * mu, held.bbox.l * mv);
     let across = along_u.min(along_v);
     if across + settings.opening_clearance > gripper.max_opening {
-        return Err(format!(
-            "{} is {across:.3} m wide across its narrower side ({:.3} m with {:.3} m clearance); the gripper opens {:.3} m",
-            held.name,
-            across + settings.opening_clearance,
-            settings.opening_clearance,
-            gripper.max_opening
-        ));
+        return Err(Refusal::GripperTooNarrow {
+            object: held.name.clone(),
+            width_m: across,
+            clearance_m: settings.opening_clearance,
+            opening_m: gripper.max_opening,
+        });
     }
     let m = &s.camera.pixel_to_base;
     let (dx, dy) = if along_u >= along_v {

@@ -25,6 +25,7 @@
 
 use afford_collision::GOAL_WALL;
 
+use crate::error::Refusal;
 use crate::geometry::object_margin;
 use crate::scenario::Scenario;
 
@@ -49,23 +50,27 @@ pub enum NoSpot {
 }
 
 impl NoSpot {
-    /// The refusal in words.
-    pub fn reason(self, s: &Scenario, object: usize, goal: usize) -> String {
+    /// The typed refusal (its `Display` is the message).
+    pub fn reason(self, s: &Scenario, object: usize, goal: usize) -> Refusal {
         let (o, g) = (&s.objects[object], &s.goals[goal]);
         let [mu, mv] = s.metres_per_pixel();
         match self {
-            Self::TooLarge => format!(
-                "{} ({:.3} m x {:.3} m) does not fit inside the {}'s inner walls ({:.3} m x {:.3} m, {} m clearance)",
-                o.name,
-                o.bbox.w * mu,
-                o.bbox.l * mv,
-                g.name,
-                g.bbox.w * mu - 2.0 * GOAL_WALL,
-                g.bbox.l * mv - 2.0 * GOAL_WALL,
-                WALL_CLEARANCE
-            ),
-            Self::Full => format!("{} is full", g.name),
-            Self::Covered => format!("safety perimeters cover the whole {}", g.name),
+            Self::TooLarge => Refusal::DoesNotFitGoal {
+                object: o.name.clone(),
+                goal: g.name.clone(),
+                object_m: [o.bbox.w * mu, o.bbox.l * mv],
+                inner_m: [
+                    g.bbox.w * mu - 2.0 * GOAL_WALL,
+                    g.bbox.l * mv - 2.0 * GOAL_WALL,
+                ],
+                clearance_m: WALL_CLEARANCE,
+            },
+            Self::Full => Refusal::GoalFull {
+                goal: g.name.clone(),
+            },
+            Self::Covered => Refusal::PerimetersCoverGoal {
+                goal: g.name.clone(),
+            },
         }
     }
 }
@@ -218,7 +223,10 @@ mod tests {
         let mut s = scene([20.0, 300.0, 80.0, 80.0]);
         put(&mut s, 0, [60.0, 340.0]);
         assert_eq!(release_spot(&s, 1, 0, None, |_| true), Err(NoSpot::Full));
-        assert_eq!(NoSpot::Full.reason(&s, 1, 0), "left box is full");
+        assert_eq!(
+            NoSpot::Full.reason(&s, 1, 0).to_string(),
+            "left box is full"
+        );
         let small = scene([20.0, 300.0, 60.0, 60.0]);
         assert_eq!(
             release_spot(&small, 1, 0, None, |_| true),

@@ -184,7 +184,7 @@ fn agreeing_start(
     Err(vec![FieldIssue::new(
         "robot.start",
         format!(
-            "({}, {}) disagrees with robot.joints: the tool of arm {arm} is at pixel ({:.1}, {:.1}), \
+            "({}, {}) disagrees with robot.joints: the tool of the arm '{arm}' is at pixel ({:.1}, {:.1}), \
              {:.1} px along u and {:.1} px along v away, more than one grid cell ({} x {} px); \
              fix or drop one of the two fields",
             start[0], start[1], tool_px[0], tool_px[1], off[0], off[1], cell[0], cell[1]
@@ -267,11 +267,11 @@ fn hover(
                 arm.insert(&mut q, &solution.q);
                 return Ok(q);
             }
-            Err(e) => reasons.push(format!("arm {}: {e}", arm.name)),
+            Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
         }
     }
     Err(format!(
-        "no arm can hover over pixel ({}, {}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
+        "no arm can hover over pixel ({:.1}, {:.1}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
          give the robot's joint state in robot.joints",
         px[0],
         px[1],

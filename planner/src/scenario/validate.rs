@@ -8,6 +8,7 @@ use std::collections::HashSet;
 use super::bounds::*;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
+use crate::instruction::lexicon::{COLOURS, SHAPES};
 
 /// Collects issues; `push(field, message)`.
 type Push<'a> = dyn FnMut(String, String) + 'a;
@@ -57,6 +58,8 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
                 format!("sensitive[{i}]"),
                 "must name a colour, shape or object".into(),
             );
+        } else if let Some(message) = unknown_sensitive(s, entry) {
+            push(format!("sensitive[{i}]"), message);
         }
         check_text(&format!("sensitive[{i}]"), entry, push);
     }
@@ -80,6 +83,35 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         }
     }
     issues
+}
+
+/// Why `entry` of `sensitive:` names nothing (no object's colour, shape or
+/// name, no colour or shape afford knows), with the nearest word as a
+/// did-you-mean; `None` when it names something.
+fn unknown_sensitive(s: &Scenario, entry: &str) -> Option<String> {
+    let known = s
+        .objects
+        .iter()
+        .flat_map(|o| [&o.color, &o.shape, &o.name].map(|w| w.to_lowercase()))
+        .chain(COLOURS.iter().chain(SHAPES).map(|w| w.to_string()));
+    let wanted = entry.trim().to_lowercase();
+    let mut nearest: Option<(usize, String)> = None;
+    for word in known {
+        let distance = strsim::levenshtein(&wanted, &word);
+        if distance == 0 {
+            return None;
+        }
+        if nearest.as_ref().is_none_or(|(d, _)| distance < *d) {
+            nearest = Some((distance, word));
+        }
+    }
+    let hint = match nearest {
+        Some((d, word)) if d <= 2 => format!("; did you mean '{word}'?"),
+        _ => String::new(),
+    };
+    Some(format!(
+        "'{entry}' names no colour, shape or object of the scene, so no margin would be kept{hint}"
+    ))
 }
 
 /// Objects, goals and hands: names, boxes, heights, counts; objects also

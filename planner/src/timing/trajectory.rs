@@ -17,6 +17,7 @@
 use afford_kinematics::{Arm, RobotModel};
 use serde::{Deserialize, Serialize};
 
+use crate::error::Refusal;
 use crate::scenario::Scenario;
 use crate::timing::{
     Hand, JointLimits, JointTrajectory, Proximity, SeparationSettings, TimingSettings,
@@ -131,8 +132,8 @@ pub struct TimingRequest<'a> {
 }
 
 /// Times the three pieces and joins them, with the arm resting while the
-/// gripper closes and opens. `Err` is the reason in words.
-pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
+/// gripper closes and opens. `Err` is the typed reason.
+pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, Refusal> {
     let limits = arm_limits(r.robot, r.arm);
     let gripper = r.robot.gripper();
     let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
@@ -170,10 +171,10 @@ pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
             ..r.settings.clone()
         };
         let timing = time_parameterize_tool(piece, &limits, Some(&proximity), Some(&fk), &settings)
-            .map_err(|e| e.to_string())?;
+            .map_err(Refusal::from)?;
         let trajectory = timing
             .trajectory
-            .ok_or_else(|| format!("timing failed: {}", timing.status))?;
+            .ok_or_else(|| Refusal::from_timing(&timing.status, &r.arm.joint_names))?;
         append(&mut motion, trajectory);
         if let Some((command, duration)) = event {
             let start = motion.duration();
