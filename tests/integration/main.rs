@@ -6,6 +6,7 @@ mod check;
 mod cli;
 mod cql_properties;
 mod examples;
+mod export_mdp;
 mod instructions;
 mod pipeline;
 mod safety;
