@@ -199,13 +199,16 @@ fn measured(learner: &Learner, grid: &StateGrid, seed: u64) -> (LearnedPlan, Lea
     (plan, run)
 }
 
-/// CPU time of the calling thread so far, milliseconds: the first field of
-/// Linux's /proc/thread-self/schedstat (nanoseconds on a CPU); `None`
-/// where it cannot be read.
+/// CPU time of the calling thread so far, milliseconds
+/// (`CLOCK_THREAD_CPUTIME_ID`, Linux); `None` elsewhere.
 fn thread_cpu_ms() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns as f64 / 1e6)
+    #[cfg(target_os = "linux")]
+    {
+        let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+        Some(t.tv_sec as f64 * 1e3 + t.tv_nsec as f64 / 1e6)
+    }
+    #[cfg(not(target_os = "linux"))]
+    None
 }
 
 enum Learner {

@@ -113,7 +113,7 @@ pub struct LearnerRun {
     /// Wall time, milliseconds (building the task's tables included).
     pub wall_ms: f64,
     /// CPU time of the training thread, milliseconds; `null` where the
-    /// system does not tell (read from /proc on Linux).
+    /// system does not tell (measured on Linux only).
     pub cpu_ms: Option<f64>,
 }
 
