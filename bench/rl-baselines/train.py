@@ -76,8 +76,8 @@ POLICY_KWARGS = dict(net_arch=[64, 64])
 class Budget:
     """What one training run may spend."""
 
-    timesteps: int = 10_000
-    eval_every: int = 500
+    timesteps: int = 5_000
+    eval_every: int = 250
     patience: int = 3
 
 
