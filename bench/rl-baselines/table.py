@@ -62,7 +62,7 @@ def parse_args(argv=None):
     p.add_argument("--docs", type=Path, default=REPO / "docs", help="where benchmarks.md and the plot go")
     p.add_argument("--shortest", type=int, default=0, help="train only on the K solvable scenes with the shortest optimal plans (a larger-budget supplement; 0 = all)")
     p.add_argument("--main-timesteps", type=int, default=5_000, help="with --shortest: the budget of the main table to render")
-    p.add_argument("--render-only", action="store_true", help="only rewrite the docs from existing results")
+    p.add_argument("--render-only", action="store_true", help="only rewrite the docs from existing results (exports first when missing)")
     return p.parse_args(argv)
 
 
@@ -402,7 +402,7 @@ def main(argv=None):
     folder = args.work / f"mdp-seed{args.seed}-{args.scenes}"
     subset = f"-shortest{args.shortest}" if args.shortest else ""
     results_path = args.work / f"results-seed{args.seed}-{args.scenes}-{args.timesteps}{subset}.jsonl"
-    export_energy = export(args, folder) if not args.render_only else {}
+    export_energy = export(args, folder)
     mdps = afford_mdp.load_dir(folder)
     if not args.render_only:
         run_training(args, mdps, results_path)
