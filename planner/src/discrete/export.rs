@@ -148,22 +148,17 @@ impl MdpExport {
     ) -> Self {
         let grid = &task.grid;
         let cell = |(r, c): (usize, usize)| [r, c];
-        let rows_of = |f: &dyn Fn(Action, Outcome) -> (i64, f64)| {
-            (0..task.state_count())
-                .map(|i| {
-                    let s = task.state(i);
-                    Action::ALL.map(|a| f(a, task.step(s, a)))
-                })
-                .collect::<Vec<_>>()
+        let encode = |outcome| match outcome {
+            Outcome::Moved(n) => task.state_index(n) as i64,
+            Outcome::Refused => REFUSED,
+            Outcome::Done => DONE,
         };
-        let table = rows_of(&|a, outcome| {
-            let next = match outcome {
-                Outcome::Moved(n) => task.state_index(n) as i64,
-                Outcome::Refused => REFUSED,
-                Outcome::Done => DONE,
-            };
-            (next, settings.reward(a, outcome))
-        });
+        let (mut next, mut reward) = (Vec::new(), Vec::new());
+        for i in 0..task.state_count() {
+            let outcomes = Action::ALL.map(|a| (a, task.step(task.state(i), a)));
+            next.push(outcomes.map(|(_, o)| encode(o)));
+            reward.push(outcomes.map(|(a, o)| settings.reward(a, o)));
+        }
         Self {
             format_version: FORMAT_VERSION,
             name: meta.name,
@@ -178,8 +173,8 @@ impl MdpExport {
             drop: grid.drop.map(cell),
             actions: Action::ALL.to_vec(),
             start_state: task.state_index(task.start()),
-            next: table.iter().map(|row| row.map(|(n, _)| n)).collect(),
-            reward: table.iter().map(|row| row.map(|(_, r)| r)).collect(),
+            next,
+            reward,
             discount: settings.discount,
             episode_steps: settings.episode_length(task),
             optimal_length: oracle::optimal_length(task),
