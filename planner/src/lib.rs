@@ -13,6 +13,7 @@
 //! | affordances, initial Q | [`discrete`] | [`affordance`] | eq. (7)–(9) |
 //! | learning | [`discrete`] | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`discrete`] | [`oracle`] | — (BFS, for measurement) |
+//! | MDP export | [`discrete`] | [`export`] | — (for the deep-RL baselines) |
 //! | the robot's state at t = 0 | [`motion`] | [`start`] | — |
 //! | lifting to 3-D, placement | [`motion`] | [`lift`], [`smooth`], [`place`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] | [`motion`] (over `afford-kinematics`) | — |
@@ -39,7 +40,7 @@ pub mod timing;
 
 // The stages keep their short paths (`afford_planner::grid`, …): the folders
 // group them by pipeline stage, the names stay what users already import.
-pub use discrete::{affordance, cql, grid, oracle, task};
+pub use discrete::{affordance, cql, export, grid, oracle, task};
 pub use motion::{clearance, geometry, lift, place, smooth, start};
 pub use timing::trajectory;
 

@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod export;
 mod output;
 mod plan;
 mod robots;
@@ -34,6 +35,27 @@ pub enum Command {
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Write the grid MDPs afford's learner solves (one JSON per sub-goal or generated scene; docs/mdp-export.md), for outside learners.
+    ExportMdp(ExportMdpArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ExportMdpArgs {
+    /// Scenario file: one MDP per sub-goal, on the scene as it is now; omitted (and no --generated): the built-in default scenario.
+    #[arg(conflicts_with = "generated")]
+    pub scenario: Option<PathBuf>,
+    /// Export scenes 0..N of the benchmark's generator instead (the scenes of `afford bench cql`).
+    #[arg(long, value_name = "N")]
+    pub generated: Option<usize>,
+    /// Seed of the generated series and of afford's learner.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// With --generated: also record CQL's and QL's training steps, wall and CPU time (not reproducible byte for byte).
+    #[arg(long)]
+    pub learner_stats: bool,
+    /// Folder to write the files to (created when missing).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
 }
 
 #[derive(Debug, clap::Args)]
@@ -272,5 +294,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
+        Command::ExportMdp(args) => export::run(&args),
     }
 }

@@ -67,7 +67,7 @@ fn perimeter_lines(s: &Scenario, out: &mut String) {
 /// Where the gripper is in the image: `robot.start` when it is given alone;
 /// otherwise from `robot.joints` (checked against the robot) or the home
 /// rule, as `afford plan` does (bad input: exit 2, field named).
-fn gripper_pixel(
+pub(super) fn gripper_pixel(
     s: &Scenario,
     robot: &RobotModel,
     args: &ValidateArgs,

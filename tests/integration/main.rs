@@ -7,6 +7,7 @@ mod check;
 mod cli;
 mod cql_properties;
 mod examples;
+mod export_mdp;
 mod features;
 mod instructions;
 mod physics;
