@@ -18,7 +18,9 @@ use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::PlanError;
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
-use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
+use crate::lift::{
+    GripperReach, LiftRequest, LiftSettings, LiftedMotion, Phase, carry_height, grasp_pose, lift,
+};
 use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
@@ -187,6 +189,9 @@ pub struct Planner {
 struct World {
     scene: Scenario,
     gripper_px: [f64; 2],
+    /// The tool's height above the table when it points down over
+    /// `gripper_px` (metres), `None` otherwise ([`start::tool_height_over`]).
+    gripper_height: Option<f64>,
     robot: Option<RobotModel>,
     geometry: Option<RobotGeometry>,
     /// The gripper's reach and opening (stage `waypoints` and later).
@@ -248,9 +253,13 @@ impl Planner {
             (Some(r), Some(g)) => Some(gripper_reach(r, g).map_err(PlanError::Robot)?),
             _ => None,
         };
+        let gripper_height = robot
+            .as_ref()
+            .and_then(|r| start::tool_height_over(scenario, r, &joints, gripper_px));
         let mut world = World {
             scene: scenario.clone(),
             gripper_px,
+            gripper_height,
             robot,
             geometry,
             gripper,
@@ -338,6 +347,9 @@ impl Planner {
                 .replannable_cell
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
+                // The route's carry height came first: a collision is met
+                // with the full height before any cell is blocked.
+                _ if hit.lowered && !retry.full_height => retry.full_height = true,
                 Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
                 _ if hit.at_grasp && !retry.flipped => retry.flipped = true,
                 _ => return Err(format!("the motion collides: {}", hit.message)),
@@ -394,17 +406,17 @@ impl Planner {
         let Some(gripper) = &world.gripper else {
             return Err("the robot is needed to lift the plan".to_string());
         };
+        let lift_request = LiftRequest {
+            object: request.object,
+            goal: request.goal,
+            actions: &learned.actions,
+            cells: &learned.cells,
+            start_px: world.gripper_px,
+            start_height: world.gripper_height,
+            full_height: retry.full_height,
+        };
         let mut motion = timed(&mut timings.lift, || {
-            lift(
-                scene,
-                &task,
-                request.object,
-                request.goal,
-                &learned.actions,
-                &learned.cells,
-                gripper,
-                &options.lift,
-            )
+            lift(scene, &task, &lift_request, gripper, &options.lift)
         })?;
         if retry.flipped {
             motion
@@ -425,6 +437,14 @@ impl Planner {
         })?;
         let arm = &robot.arms()[choice.arm_index];
         let start = arm.extract(&world.joints);
+        let mut choice = choice;
+        // The route starts where the tool is: a first waypoint whose IK lands
+        // on the current configuration is that configuration exactly.
+        if let Some(q) = choice.path.waypoints.first_mut()
+            && q.iter().zip(&start).all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
+        {
+            q.clone_from(&start);
+        }
         let first = choice
             .path
             .waypoints
@@ -457,9 +477,10 @@ impl Planner {
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
         })? {
-            return Ok(Attempt::Collides(Box::new(Replan::of(
-                hit, offset, scene, &task, &motion,
-            ))));
+            let mut replan = Replan::of(hit, offset, scene, &task, &motion);
+            replan.lowered = motion.carry_height
+                < carry_height(scene, request.object, &options.lift) - 1e-9;
+            return Ok(Attempt::Collides(Box::new(replan)));
         }
         if options.until >= Stage::Trajectory {
             let request = TimingRequest {
@@ -511,6 +532,9 @@ struct Retry {
     /// Grasp with the tool turned half a turn (a hand whose open finger
     /// sticks out to one side then has it on the other).
     flipped: bool,
+    /// Carry at the full height (the tallest thing on the table), not the
+    /// height the route needs.
+    full_height: bool,
 }
 
 /// The outcome of one pass through the stages.
@@ -530,6 +554,8 @@ struct Replan {
     /// The hit is where the hand closes or opens on the object (approach,
     /// grasp, lift, release): turning the tool may avoid it.
     at_grasp: bool,
+    /// The motion carried lower than the full height (the route's height).
+    lowered: bool,
 }
 
 impl Replan {
@@ -575,6 +601,7 @@ impl Replan {
             message,
             replannable_cell: cell,
             at_grasp,
+            lowered: false,
         }
     }
 }
@@ -585,6 +612,7 @@ impl World {
     /// (other arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
         self.gripper_px = done.release_px;
+        self.gripper_height = None;
         let object = &mut self.scene.objects[request.object];
         object.bbox = object.bbox.centred_at(self.gripper_px);
         let (Some(robot), Some(arm), Some(path)) = (&self.robot, &done.arm, &done.joint_path)
@@ -600,8 +628,14 @@ impl World {
         if let (Ok(arm), Some(last)) = (robot.arm(arm), last) {
             arm.insert(&mut self.joints, last);
         }
+        self.gripper_height =
+            start::tool_height_over(&self.scene, robot, &self.joints, self.gripper_px);
     }
 }
+
+/// Largest joint difference (rad or m) at which a solved configuration is
+/// taken as the current one (IK converges to about 1e-9).
+const SAME_CONFIGURATION: f64 = 1e-6;
 
 /// The arm's way back to its park posture after its last waypoint, through
 /// its home posture, in joint steps of at most 0.05 rad; empty for an arm
