@@ -3,9 +3,13 @@
 //! safety for it.
 //!
 //! The route — the CQL cell path pulled taut by [`crate::motion::route`] —
-//! is interpolated by a centripetal Catmull–Rom spline through its vertices
-//! (it passes through every vertex and does not overshoot on sharp turns),
-//! sampled at least every quarter cell. Every chord between consecutive
+//! is interpolated by a cubic Hermite spline through its vertices: at each
+//! bend the tangent is the bisector of the two directions, with a handle of
+//! at most one cell (and at most the span), so the curve turns within about
+//! a cell of the bend and runs straight between bends (a Catmull–Rom
+//! spline with span-long tangents bulged up to half a cell off a long
+//! span). The ends keep the chord's direction. Sampled at least every
+//! quarter cell. Every chord between consecutive
 //! samples is checked with the swept footprint of
 //! [`route::segment_is_free`] (the held object's footprint, a cell-sized
 //! square, must overlap no 0.2/0.4 cell); a span whose curve fails falls
@@ -28,14 +32,14 @@ pub fn smooth_route(grid: &StateGrid, vertices: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let step = grid.cell_size[0].min(grid.cell_size[1]) / 4.0;
     let mut out = vec![first];
     for k in 0..vertices.len().saturating_sub(1) {
-        let p0 = vertices[k.saturating_sub(1)];
         let (p1, p2) = (vertices[k], vertices[k + 1]);
-        let p3 = vertices[(k + 2).min(vertices.len() - 1)];
         let length = (p2[0] - p1[0]).hypot(p2[1] - p1[1]);
+        let handle = length.min(grid.cell_size[0].max(grid.cell_size[1]));
+        let (m1, m2) = (tangent(vertices, k), tangent(vertices, k + 1));
         let samples = ((length / step).ceil() as usize)
             .clamp(MIN_SAMPLES_PER_SPAN, MAX_SAMPLES_PER_SPAN);
         let mut curve: Vec<[f64; 2]> = (1..samples)
-            .map(|i| catmull_rom(p0, p1, p2, p3, i as f64 / samples as f64))
+            .map(|i| hermite(p1, p2, m1, m2, handle, i as f64 / samples as f64))
             .collect();
         curve.push(p2);
         let mut prev = p1;
@@ -52,27 +56,29 @@ pub fn smooth_route(grid: &StateGrid, vertices: &[[f64; 2]]) -> Vec<[f64; 2]> {
     out
 }
 
-fn lerp(a: [f64; 2], b: [f64; 2], t: f64) -> [f64; 2] {
-    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+/// Unit tangent at vertex `k`: the bisector of the directions in and out
+/// (the one direction at an end; zero where the route turns back).
+fn tangent(vertices: &[[f64; 2]], k: usize) -> [f64; 2] {
+    let unit = |a: [f64; 2], b: [f64; 2]| {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let n = d[0].hypot(d[1]);
+        if n > 0.0 { [d[0] / n, d[1] / n] } else { [0.0, 0.0] }
+    };
+    let last = vertices.len() - 1;
+    let inward = if k > 0 { unit(vertices[k - 1], vertices[k]) } else { [0.0, 0.0] };
+    let outward = if k < last { unit(vertices[k], vertices[k + 1]) } else { [0.0, 0.0] };
+    unit([0.0, 0.0], [inward[0] + outward[0], inward[1] + outward[1]])
 }
 
-/// Centripetal Catmull–Rom (α = ½) between p1 and p2 at t ∈ [0, 1]
-/// (Barry–Goldman pyramidal form). Repeated end points are handled by
-/// nudging the knot spacing away from zero.
-fn catmull_rom(p0: [f64; 2], p1: [f64; 2], p2: [f64; 2], p3: [f64; 2], t: f64) -> [f64; 2] {
-    let knot = |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).hypot(a[1] - b[1])).sqrt().max(1e-9);
-    let t0 = 0.0;
-    let t1 = t0 + knot(p0, p1);
-    let t2 = t1 + knot(p1, p2);
-    let t3 = t2 + knot(p2, p3);
-    let u = t1 + t * (t2 - t1);
-    let mix = |a: [f64; 2], b: [f64; 2], ta: f64, tb: f64| lerp(a, b, (u - ta) / (tb - ta));
-    let a1 = mix(p0, p1, t0, t1);
-    let a2 = mix(p1, p2, t1, t2);
-    let a3 = mix(p2, p3, t2, t3);
-    let b1 = mix(a1, a2, t0, t2);
-    let b2 = mix(a2, a3, t1, t3);
-    mix(b1, b2, t1, t2)
+/// Cubic Hermite between `p1` and `p2` at t ∈ [0, 1] with unit tangents
+/// `m1`, `m2` scaled by `handle`.
+fn hermite(p1: [f64; 2], p2: [f64; 2], m1: [f64; 2], m2: [f64; 2], handle: f64, t: f64) -> [f64; 2] {
+    let (t2, t3) = (t * t, t * t * t);
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + t;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    [0, 1].map(|k| h00 * p1[k] + h10 * handle * m1[k] + h01 * p2[k] + h11 * handle * m2[k])
 }
 
 #[cfg(test)]
@@ -131,8 +137,10 @@ mod tests {
         let vertices = [g.centre((1, 1)), corner, g.centre((3, 3))];
         let path = smooth_route(&g, &vertices);
         let at = path.iter().position(|&p| p == corner).expect("passes the corner");
-        // The sample just before the corner leaves the straight line.
-        assert!((path[at - 1][1] - corner[1]).abs() > 1e-6, "{:?}", path[at - 1]);
+        // The sample just before the corner leaves the straight line, by
+        // less than a cell.
+        let off = (path[at - 1][1] - corner[1]).abs();
+        assert!(off > 1e-6 && off < 1.0, "{:?}", path[at - 1]);
         assert!(all_free(&g, &path));
     }
 }
