@@ -165,21 +165,17 @@ pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
     }
     let bar = progress_bar(args.scenarios as u64, "scenes");
     // Scenes in parallel, collected in scene order (thread count independent).
-    let ratios: Vec<_> = (0..args.scenarios)
+    let measured: Vec<_> = (0..args.scenarios)
         .into_par_iter()
-        .flat_map_iter(|k| {
+        .map(|k| {
             let measured = afford_planner::bench::routes::run_scene(args.seed, k);
             bar.inc(1);
             measured
         })
         .collect();
     bar.finish_and_clear();
-    if std::env::var_os("AFFORD_DEBUG_ROUTES").is_some() {
-        for r in &ratios {
-            eprintln!("{} {} {:.3} {:.3} {:.4}", r.scene, r.subgoal, r.planned_m, r.shortest_m, r.ratio);
-        }
-    }
-    let report = afford_planner::bench::routes::RoutesReport::of(args.seed, args.scenarios, &ratios);
+    let report =
+        afford_planner::bench::routes::RoutesReport::of(args.seed, args.scenarios, &measured);
     print_report(&report, args.json)
 }
 

@@ -16,7 +16,12 @@
 //!   `obstacle_margin` (`sensitive_margin` when sensitive; pieces resting in
 //!   the sub-goal's goal are part of it), other goals by `obstacle_margin`,
 //!   hands by `hand_margin`, each grown again by half the target's box (the
-//!   footprint the planner keeps off them).
+//!   footprint the planner keeps off them); the obstacles connected to one
+//!   under the gripper are left out, as the grid clears them
+//!   ([`super::visibility::Field::escaping`]).
+//!
+//! Sub-goals for which the oracle finds no path (or that have no waypoints)
+//! are counted as `unmeasured`.
 //!
 //! The ratio is planned / shortest per sub-goal; the report gives the mean
 //! and the largest over every planned sub-goal of every scene.
@@ -47,6 +52,8 @@ pub struct RoutesReport {
     pub scenes: usize,
     /// Planned sub-goals measured.
     pub subgoals: usize,
+    /// Planned sub-goals the oracle found no path for.
+    pub unmeasured: usize,
     pub mean_path_over_shortest: f64,
     pub max_path_over_shortest: f64,
     /// Sum of planned lengths over sum of shortest lengths, metres / metres.
@@ -56,8 +63,10 @@ pub struct RoutesReport {
 }
 
 impl RoutesReport {
-    /// Summarises the ratios of `scenes` scenes of the series `seed`.
-    pub fn of(seed: u64, scenes: usize, ratios: &[RouteRatio]) -> Self {
+    /// Summarises the measured scenes `measured` (of `scenes` scenes of the
+    /// series `seed`).
+    pub fn of(seed: u64, scenes: usize, measured: &[SceneRoutes]) -> Self {
+        let ratios: Vec<RouteRatio> = measured.iter().flat_map(|m| m.ratios.clone()).collect();
         let sum = |f: fn(&RouteRatio) -> f64| ratios.iter().map(f).sum::<f64>();
         let worst = ratios
             .iter()
@@ -67,6 +76,7 @@ impl RoutesReport {
             seed,
             scenes,
             subgoals: ratios.len(),
+            unmeasured: measured.iter().map(|m| m.unmeasured).sum(),
             mean_path_over_shortest: super::mean(&ratios.iter().map(|r| r.ratio).collect::<Vec<_>>()),
             max_path_over_shortest: worst.as_ref().map_or(0.0, |w| w.ratio),
             total_path_over_shortest: match sum(|r| r.shortest_m) {
@@ -78,27 +88,36 @@ impl RoutesReport {
     }
 }
 
+/// One scene's measured sub-goals.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneRoutes {
+    pub ratios: Vec<RouteRatio>,
+    /// Planned sub-goals the oracle found no path for.
+    pub unmeasured: usize,
+}
+
 /// Plans scene `index` of the series `seed` up to the `joints` stage and
 /// measures every planned sub-goal (none when the scene is refused).
-pub fn run_scene(seed: u64, index: usize) -> Vec<RouteRatio> {
+pub fn run_scene(seed: u64, index: usize) -> SceneRoutes {
     let scenario = scenes::scene(seed, index);
     let options = PlanOptions {
         until: Stage::Joints,
         ..PlanOptions::default()
     };
     let Ok(plan) = crate::plan::plan(&scenario, &options) else {
-        return Vec::new();
+        return SceneRoutes::default();
     };
     let mut scene = scenario.clone();
     let mut start = scenario.robot.start.unwrap_or_default();
-    let mut out = Vec::new();
+    let mut out = SceneRoutes::default();
     for (k, done) in plan.subgoals.iter().enumerate() {
-        if let Some(ratio) = measure(&scene, start, done) {
-            out.push(RouteRatio {
+        match measure(&scene, start, done) {
+            Some(ratio) => out.ratios.push(RouteRatio {
                 scene: index,
                 subgoal: k,
                 ..ratio
-            });
+            }),
+            None => out.unmeasured += 1,
         }
         // The scene as the next sub-goal sees it: the piece on its spot.
         if let Some(i) = scene.object_index(&done.object) {
@@ -124,7 +143,7 @@ fn measure(scene: &Scenario, start: [f64; 2], done: &SubgoalPlan) -> Option<Rout
         planned_m += (p[0] - last[0]).hypot(p[1] - last[1]);
         last = p;
     }
-    let field = field(scene, object, goal);
+    let field = field(scene, object, goal).escaping(start);
     let target = scene.objects[object].bbox.centre();
     let shortest_m = field.shortest(start, target)? + field.shortest(target, done.release_px)?;
     Some(RouteRatio {
@@ -141,7 +160,7 @@ fn measure(scene: &Scenario, start: [f64; 2], done: &SubgoalPlan) -> Option<Rout
 fn field(scene: &Scenario, object: usize, goal: usize) -> Field {
     let [mu, mv] = scene.metres_per_pixel();
     let target = scene.objects[object].bbox;
-    let grow = |b: PixelBox, margin: f64| Rect {
+    let grow = |b: PixelBox, margin: f64, escapable: bool| Rect {
         lo: [
             b.u - margin / mu - target.w / 2.0,
             b.v - margin / mv - target.l / 2.0,
@@ -150,6 +169,7 @@ fn field(scene: &Scenario, object: usize, goal: usize) -> Field {
             b.u + b.w + margin / mu + target.w / 2.0,
             b.v + b.l + margin / mv + target.l / 2.0,
         ],
+        escapable,
     };
     let safety = &scene.safety;
     let in_goal = |b: &PixelBox| scene.goals[goal].bbox.contains(b.centre());
@@ -163,15 +183,18 @@ fn field(scene: &Scenario, object: usize, goal: usize) -> Field {
                 true => safety.sensitive_margin,
                 false => safety.obstacle_margin,
             };
-            grow(o.bbox, margin)
+            grow(o.bbox, margin, true)
         });
     let goals = scene
         .goals
         .iter()
         .enumerate()
         .filter(|&(i, _)| i != goal)
-        .map(|(_, g)| grow(g.bbox, safety.obstacle_margin));
-    let hands = scene.hands.iter().map(|h| grow(h.bbox, safety.hand_margin));
+        .map(|(_, g)| grow(g.bbox, safety.obstacle_margin, true));
+    let hands = scene
+        .hands
+        .iter()
+        .map(|h| grow(h.bbox, safety.hand_margin, false));
     let m = &scene.camera.pixel_to_base;
     Field {
         obstacles: objects.chain(goals).chain(hands).collect(),

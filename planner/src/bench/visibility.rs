@@ -16,8 +16,9 @@
 //!
 //! Relaxations, each making the oracle shorter (the measured ratio can only
 //! be pessimistic): an obstacle that contains the start or the end is left
-//! out (the grid also frees the region under the gripper and wins the target
-//! cell over a perimeter); the tool's point may go anywhere in the image
+//! out, and so is every obstacle but a hand's connected to one under the
+//! gripper ([`Field::escaping`]; the grid clears the connected obstacle
+//! region under the gripper and wins the target cell over a perimeter); the tool's point may go anywhere in the image
 //! (the planner keeps the whole footprint on the grid); touching rectangles
 //! leave a zero-width gap between them.
 
@@ -29,9 +30,17 @@ use std::collections::BinaryHeap;
 pub struct Rect {
     pub lo: [f64; 2],
     pub hi: [f64; 2],
+    /// The gripper may leave it when it starts inside (everything but a
+    /// hand's perimeter; see [`Field::escaping`]).
+    pub escapable: bool,
 }
 
 impl Rect {
+    /// The closed rectangles overlap or touch.
+    fn touches(&self, other: &Rect) -> bool {
+        (0..2).all(|k| self.lo[k] <= other.hi[k] && other.lo[k] <= self.hi[k])
+    }
+
     fn strictly_contains(&self, p: [f64; 2]) -> bool {
         (0..2).all(|k| p[k] > self.lo[k] && p[k] < self.hi[k])
     }
@@ -74,6 +83,39 @@ pub struct Field {
 }
 
 impl Field {
+    /// The field without the escapable obstacles connected (overlapping or
+    /// touching, transitively) to one that contains `start`: the grid clears
+    /// the connected obstacle region under the gripper so it can leave.
+    pub fn escaping(&self, start: [f64; 2]) -> Field {
+        let mut cleared: Vec<bool> = self
+            .obstacles
+            .iter()
+            .map(|r| r.escapable && r.strictly_contains(start))
+            .collect();
+        let mut grown = true;
+        while grown {
+            grown = false;
+            for i in 0..self.obstacles.len() {
+                let reached = (0..self.obstacles.len())
+                    .any(|j| cleared[j] && self.obstacles[j].touches(&self.obstacles[i]));
+                if !cleared[i] && self.obstacles[i].escapable && reached {
+                    cleared[i] = true;
+                    grown = true;
+                }
+            }
+        }
+        Field {
+            obstacles: self
+                .obstacles
+                .iter()
+                .zip(&cleared)
+                .filter(|(_, c)| !**c)
+                .map(|(r, _)| *r)
+                .collect(),
+            ..self.clone()
+        }
+    }
+
     /// Length in metres of the shortest path from `a` to `b` (pixels) that
     /// enters no obstacle; `None` when there is none.
     pub fn shortest(&self, a: [f64; 2], b: [f64; 2]) -> Option<f64> {
@@ -177,6 +219,7 @@ mod tests {
         let wall = Rect {
             lo: [40.0, 20.0],
             hi: [60.0, 80.0],
+            escapable: true,
         };
         let d = field(vec![wall]).shortest([50.0, 10.0], [50.0, 90.0]);
         let want = 2.0 * 10.0f64.hypot(10.0) + 60.0;
@@ -188,11 +231,28 @@ mod tests {
         let r = Rect {
             lo: [10.0, 10.0],
             hi: [20.0, 20.0],
+            escapable: true,
         };
         assert!(!r.meets_segment([0.0, 10.0], [30.0, 10.0]), "along the edge");
         assert!(!r.meets_segment([0.0, 0.0], [10.0, 10.0]), "to the corner");
         assert!(r.meets_segment([0.0, 0.0], [30.0, 30.0]), "diagonal through");
         assert!(r.meets_segment([15.0, 0.0], [15.0, 30.0]), "straight through");
+    }
+
+    #[test]
+    fn oracle_escapes_the_region_under_the_gripper_but_not_a_hand() {
+        let rect = |lo: [f64; 2], hi: [f64; 2], escapable: bool| Rect { lo, hi, escapable };
+        // The start is inside a box that touches a second one; a hand's
+        // perimeter touches both.
+        let f = field(vec![
+            rect([0.0, 0.0], [20.0, 20.0], true),
+            rect([20.0, 0.0], [40.0, 20.0], true),
+            rect([40.0, 0.0], [60.0, 20.0], false),
+            rect([0.0, 50.0], [20.0, 60.0], true),
+        ]);
+        let left = f.escaping([10.0, 10.0]).obstacles;
+        assert_eq!(left.len(), 2);
+        assert!(!left[0].escapable && left[1].lo == [0.0, 50.0]);
     }
 
     #[test]
