@@ -32,7 +32,8 @@ use crate::grid::StateGrid;
 const SHRINK: f64 = 1e-6;
 
 /// Upper bound on the splices of one [`taut`] call, per vertex of its input
-/// (each splice shortens the path; the bound only guards against rounding).
+/// (each splice shortens the path or drops a vertex; the bound only guards
+/// against rounding).
 const SPLICES_PER_VERTEX: usize = 64;
 
 type Point = [f64; 2];
@@ -130,7 +131,9 @@ fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
     while i + 1 < path.len() && budget > 0 {
         let (a, b, c) = (path[i - 1], path[i], path[i + 1]);
         let chain = wrap(grid, &near, a, b, c);
-        let shorter = polyline_length(a, &chain, c) < distance(a, b) + distance(b, c) - 1e-9;
+        let (after, before) = (polyline_length(a, &chain, c), distance(a, b) + distance(b, c));
+        // Shorter, or as long with b dropped (b on the straight a–c).
+        let shorter = after < before - 1e-9 || (chain.is_empty() && after <= before + 1e-9);
         let free = || {
             let mut prev = a;
             chain.iter().chain([&c]).all(|&p| {
@@ -179,9 +182,12 @@ fn wrap(grid: &StateGrid, near: &[bool], a: Point, b: Point, c: Point) -> Vec<Po
         return Vec::new();
     }
     let sign = side.signum();
+    // The triangle a, b, c turns the other way round from a, c, b.
     let inside = |p: Point| {
-        let tol = -1e-9 * scale * scale;
-        sign * cross(a, b, p) >= tol && sign * cross(b, c, p) >= tol && sign * cross(c, a, p) >= tol
+        let tol = 1e-9 * scale * scale;
+        [cross(a, b, p), cross(b, c, p), cross(c, a, p)]
+            .iter()
+            .all(|&x| -sign * x >= -tol)
     };
     let lo = [0, 1].map(|k| a[k].min(b[k]).min(c[k]));
     let hi = [0, 1].map(|k| a[k].max(b[k]).max(c[k]));
@@ -287,7 +293,10 @@ mod tests {
         cells.extend((1..6).map(|r| (r, 5)));
         let route = taut(&g, &centres(&g, &cells));
         assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
-        assert!(path_length(&route) < path_length(&centres(&g, &cells)) - 1.0);
+        assert!(
+            path_length(&route) < path_length(&centres(&g, &cells)) - 1.0,
+            "{route:?}"
+        );
         // Still right of the obstacle: one bend, at the grown block's corner
         // (the centre of (1, 4)).
         assert_eq!(
