@@ -15,11 +15,13 @@
 //!
 //! Shortening ([`taut`]): the classical elastic band for the shortest path
 //! in a homotopy class. For consecutive vertices `a, b, c`, the
-//! configuration-space obstacle points inside the triangle `abc` are cell
-//! centres (the obstacles are unions of lattice squares and cannot cross
-//! the free segments `ab`, `bc`); the shortest way from `a` to `c` that
-//! deforms `a-b-c` without crossing them is the convex chain around those
-//! centres on `b`'s side (the straight `ac` when there are none). Replacing
+//! configuration-space obstacles reaching into the triangle `abc` are grown
+//! blocked cells whose corners are cell centres (they cannot cross the free
+//! segments `ab`, `bc`, so the part inside the triangle is the hull of their
+//! corners inside it, clipped by `ac`); the shortest way from `a` to `c`
+//! that deforms `a-b-c` without crossing them is the convex chain around
+//! those corners on `b`'s side (the straight `ac` when there are none). A
+//! grown cell that only touches the triangle from outside does not count. Replacing
 //! `b` by that chain shortens the path and keeps its homotopy class; at the
 //! fixed point every bend wraps an obstacle corner, and a locally shortest
 //! path among polygonal obstacles is the shortest of its class. Every new
@@ -125,12 +127,11 @@ fn flush(grid: &StateGrid, run: &mut Vec<Point>, out: &mut Vec<Point>) {
 
 /// The elastic band on one run of free segments.
 fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
-    let near = near_blocked(grid);
     let mut budget = SPLICES_PER_VERTEX * path.len().max(1);
     let mut i = 1;
     while i + 1 < path.len() && budget > 0 {
         let (a, b, c) = (path[i - 1], path[i], path[i + 1]);
-        let chain = wrap(grid, &near, a, b, c);
+        let chain = wrap(grid, a, b, c);
         let (after, before) = (polyline_length(a, &chain, c), distance(a, b) + distance(b, c));
         // Shorter, or as long with b dropped (b on the straight a–c).
         let shorter = after < before - 1e-9 || (chain.is_empty() && after <= before + 1e-9);
@@ -153,29 +154,10 @@ fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
     path
 }
 
-/// Cells whose centre lies in the closed configuration-space obstacle: the
-/// blocked cells and their 8 neighbours.
-fn near_blocked(grid: &StateGrid) -> Vec<bool> {
-    let mut near = vec![false; grid.len()];
-    for r in 0..grid.rows {
-        for c in 0..grid.cols {
-            if !grid.code((r, c)).is_blocked() {
-                continue;
-            }
-            for rr in r.saturating_sub(1)..=(r + 1).min(grid.rows - 1) {
-                for cc in c.saturating_sub(1)..=(c + 1).min(grid.cols - 1) {
-                    near[grid.index((rr, cc))] = true;
-                }
-            }
-        }
-    }
-    near
-}
-
 /// The vertices strictly between `a` and `c` of the convex chain around the
 /// obstacle centres inside the triangle `abc`, on `b`'s side (empty: the
 /// straight `ac` deforms `a-b-c` without crossing an obstacle).
-fn wrap(grid: &StateGrid, near: &[bool], a: Point, b: Point, c: Point) -> Vec<Point> {
+fn wrap(grid: &StateGrid, a: Point, b: Point, c: Point) -> Vec<Point> {
     let side = cross(a, c, b);
     let scale = distance(a, c).max(distance(a, b)).max(1.0);
     if side.abs() <= 1e-12 * scale * scale {
@@ -189,16 +171,35 @@ fn wrap(grid: &StateGrid, near: &[bool], a: Point, b: Point, c: Point) -> Vec<Po
             .iter()
             .all(|&x| -sign * x >= -tol)
     };
-    let lo = [0, 1].map(|k| a[k].min(b[k]).min(c[k]));
-    let hi = [0, 1].map(|k| a[k].max(b[k]).max(c[k]));
+    let reach = [0, 1].map(|k| grid.cell_size[k] * (1.0 - SHRINK));
+    let lo = [0, 1].map(|k| a[k].min(b[k]).min(c[k]) - reach[k]);
+    let hi = [0, 1].map(|k| a[k].max(b[k]).max(c[k]) + reach[k]);
     let (r0, c0) = grid.cell_at(lo);
     let (r1, c1) = grid.cell_at(hi);
+    // The corners of every grown blocked cell whose interior reaches into
+    // the triangle's: only those can hold the band (a cell that merely
+    // touches an edge from outside cannot).
     let mut points: Vec<Point> = Vec::new();
     for r in r0..=r1 {
         for col in c0..=c1 {
-            let p = grid.centre((r, col));
-            if near[grid.index((r, col))] && inside(p) && p != a && p != c {
-                points.push(p);
+            if !grid.code((r, col)).is_blocked() {
+                continue;
+            }
+            let centre = grid.centre((r, col));
+            let shrunk = [0, 1].map(|k| [centre[k] - reach[k], centre[k] + reach[k]]);
+            if !box_meets_triangle(shrunk, [a, b, c]) {
+                continue;
+            }
+            for du in [-1.0, 1.0] {
+                for dv in [-1.0, 1.0] {
+                    let p = [
+                        centre[0] + du * grid.cell_size[0],
+                        centre[1] + dv * grid.cell_size[1],
+                    ];
+                    if inside(p) && p != a && p != c && !points.contains(&p) {
+                        points.push(p);
+                    }
+                }
             }
         }
     }
@@ -224,6 +225,35 @@ fn wrap(grid: &StateGrid, near: &[bool], a: Point, b: Point, c: Point) -> Vec<Po
         current = best;
     }
     chain
+}
+
+/// The box (`[[u_lo, u_hi], [v_lo, v_hi]]`) and the triangle overlap with
+/// positive area: no separating axis among u, v and the triangle's edge
+/// normals (touching counts as apart).
+fn box_meets_triangle(bx: [[f64; 2]; 2], triangle: [Point; 3]) -> bool {
+    let corners = [
+        [bx[0][0], bx[1][0]],
+        [bx[0][1], bx[1][0]],
+        [bx[0][1], bx[1][1]],
+        [bx[0][0], bx[1][1]],
+    ];
+    let mut axes = vec![[1.0, 0.0], [0.0, 1.0]];
+    for k in 0..3 {
+        let (p, q) = (triangle[k], triangle[(k + 1) % 3]);
+        axes.push([p[1] - q[1], q[0] - p[0]]);
+    }
+    axes.iter().all(|n| {
+        let project = |pts: &[Point]| {
+            pts.iter()
+                .map(|p| n[0] * p[0] + n[1] * p[1])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x), hi.max(x))
+                })
+        };
+        let (b_lo, b_hi) = project(&corners);
+        let (t_lo, t_hi) = project(&triangle);
+        b_hi > t_lo && t_hi > b_lo
+    })
 }
 
 /// Length of `a`, `via…`, `c`.
@@ -326,6 +356,32 @@ mod tests {
         let route = taut(&g, &centres(&g, &cells));
         assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
         assert_eq!(route, vec![a, g.centre((2, 1)), b]);
+    }
+
+    /// A bend where one obstacle lies inside the turn and another only
+    /// touches the path from outside: the outside one must not hold the band
+    /// (found on a campaign scene, where the route kept the staircase).
+    #[test]
+    fn route_is_not_held_by_an_obstacle_touching_it_from_outside() {
+        let g = grid(&[
+            "T....", ".....", ".###.", ".....", ".....", "###..", "###..", "###..",
+        ]);
+        let cells = [
+            (7, 3),
+            (6, 3),
+            (5, 3),
+            (4, 3),
+            (4, 2),
+            (4, 1),
+            (4, 0),
+            (3, 0),
+            (2, 0),
+            (1, 0),
+            (0, 0),
+        ];
+        let route = taut(&g, &centres(&g, &cells));
+        assert_eq!(route, vec![[3.5, 7.5], [3.5, 4.5], [0.5, 3.5], [0.5, 0.5]]);
+        assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
     }
 
     #[test]
