@@ -441,7 +441,9 @@ impl Planner {
         // The route starts where the tool is: a first waypoint whose IK lands
         // on the current configuration is that configuration exactly.
         if let Some(q) = choice.path.waypoints.first_mut()
-            && q.iter().zip(&start).all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
+            && q.iter()
+                .zip(&start)
+                .all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
         {
             q.clone_from(&start);
         }
@@ -478,8 +480,8 @@ impl Planner {
             check_motion(robot, geometry, &check)
         })? {
             let mut replan = Replan::of(hit, offset, scene, &task, &motion);
-            replan.lowered = motion.carry_height
-                < carry_height(scene, request.object, &options.lift) - 1e-9;
+            replan.lowered =
+                motion.carry_height < carry_height(scene, request.object, &options.lift) - 1e-9;
             return Ok(Attempt::Collides(Box::new(replan)));
         }
         if options.until >= Stage::Trajectory {

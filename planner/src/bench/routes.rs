@@ -77,7 +77,9 @@ impl RoutesReport {
             scenes,
             subgoals: ratios.len(),
             unmeasured: measured.iter().map(|m| m.unmeasured).sum(),
-            mean_path_over_shortest: super::mean(&ratios.iter().map(|r| r.ratio).collect::<Vec<_>>()),
+            mean_path_over_shortest: super::mean(
+                &ratios.iter().map(|r| r.ratio).collect::<Vec<_>>(),
+            ),
             max_path_over_shortest: worst.as_ref().map_or(0.0, |w| w.ratio),
             total_path_over_shortest: match sum(|r| r.shortest_m) {
                 s if s > 0.0 => sum(|r| r.planned_m) / s,

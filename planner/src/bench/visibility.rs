@@ -132,7 +132,8 @@ impl Field {
                 .flat_map(Rect::corners)
                 .filter(|&p| in_image(p) && !kept.iter().any(|r| r.strictly_contains(p))),
         );
-        let visible = |i: usize, j: usize| !kept.iter().any(|r| r.meets_segment(nodes[i], nodes[j]));
+        let visible =
+            |i: usize, j: usize| !kept.iter().any(|r| r.meets_segment(nodes[i], nodes[j]));
         dijkstra(nodes.len(), 0, 1, |i, j| {
             visible(i, j).then(|| self.length(nodes[i], nodes[j]))
         })
@@ -233,10 +234,19 @@ mod tests {
             hi: [20.0, 20.0],
             escapable: true,
         };
-        assert!(!r.meets_segment([0.0, 10.0], [30.0, 10.0]), "along the edge");
+        assert!(
+            !r.meets_segment([0.0, 10.0], [30.0, 10.0]),
+            "along the edge"
+        );
         assert!(!r.meets_segment([0.0, 0.0], [10.0, 10.0]), "to the corner");
-        assert!(r.meets_segment([0.0, 0.0], [30.0, 30.0]), "diagonal through");
-        assert!(r.meets_segment([15.0, 0.0], [15.0, 30.0]), "straight through");
+        assert!(
+            r.meets_segment([0.0, 0.0], [30.0, 30.0]),
+            "diagonal through"
+        );
+        assert!(
+            r.meets_segment([15.0, 0.0], [15.0, 30.0]),
+            "straight through"
+        );
     }
 
     #[test]

@@ -276,7 +276,15 @@ pub fn lift(
         out.push(point(pair[1], h, Phase::Travel, false));
     }
     let target_px = grid.centre(grid.target);
-    out.push(point(target_px, approach, Phase::Approach, false));
+    // At the approach height already (nothing under the route needs more):
+    // no second waypoint at the same place.
+    let over_target = point(target_px, approach, Phase::Approach, false);
+    if out
+        .last()
+        .is_none_or(|w| distance3(w.position, over_target.position) > 1e-9)
+    {
+        out.push(over_target);
+    }
     out.push(point(target_px, grasp, Phase::Grasp, false));
     out.push(point(target_px, carry_height, Phase::Lift, true));
     let goal_box = scenario.goals[goal].bbox;
@@ -380,7 +388,11 @@ pub fn route_carry_height(
             (grown(o.bbox, margin), o.height)
         });
     let goals = s.goals.iter().enumerate().map(|(i, g)| {
-        let margin = if i == goal { 0.0 } else { s.safety.obstacle_margin };
+        let margin = if i == goal {
+            0.0
+        } else {
+            s.safety.obstacle_margin
+        };
         (grown(g.bbox, margin), g.height)
     });
     let hands = s
@@ -389,7 +401,10 @@ pub fn route_carry_height(
         .map(|h| (grown(h.bbox, s.safety.hand_margin), h.height));
     let passes_over = |b: &PixelBox| {
         // Touching counts: the box grown by a micro-pixel.
-        let (lo, hi) = ([b.u - 1e-6, b.v - 1e-6], [b.u + b.w + 1e-6, b.v + b.l + 1e-6]);
+        let (lo, hi) = (
+            [b.u - 1e-6, b.v - 1e-6],
+            [b.u + b.w + 1e-6, b.v + b.l + 1e-6],
+        );
         legs.iter().any(|leg| match leg.len() {
             1 => crosses_open_box(leg[0], leg[0], lo, hi),
             _ => leg.windows(2).any(|w| crosses_open_box(w[0], w[1], lo, hi)),
@@ -403,13 +418,17 @@ pub fn route_carry_height(
     tallest + s.objects[object].height + settings.carry_clearance
 }
 
+fn distance3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt()
+}
+
 /// Cuts every segment longer than `max_step` into equal steps; inserted
 /// waypoints take the phase and holding state of the segment's end.
 fn densify(waypoints: &[ToolWaypoint], max_step: f64) -> Vec<ToolWaypoint> {
     let mut out: Vec<ToolWaypoint> = waypoints.first().copied().into_iter().collect();
     for pair in waypoints.windows(2) {
         let (a, b) = (pair[0].position, pair[1].position);
-        let length = (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt();
+        let length = distance3(a, b);
         let steps = (length / max_step).ceil().max(1.0) as usize;
         out.extend((1..=steps).map(|i| {
             let t = i as f64 / steps as f64;

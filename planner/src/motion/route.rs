@@ -132,7 +132,10 @@ fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
     while i + 1 < path.len() && budget > 0 {
         let (a, b, c) = (path[i - 1], path[i], path[i + 1]);
         let chain = wrap(grid, a, b, c);
-        let (after, before) = (polyline_length(a, &chain, c), distance(a, b) + distance(b, c));
+        let (after, before) = (
+            polyline_length(a, &chain, c),
+            distance(a, b) + distance(b, c),
+        );
         // Shorter, or as long with b dropped (b on the straight a–c).
         let shorter = after < before - 1e-9 || (chain.is_empty() && after <= before + 1e-9);
         let free = || {
@@ -308,7 +311,16 @@ mod tests {
     #[test]
     fn route_staircase_in_open_space_pulls_straight() {
         let g = grid(&["T....", ".....", ".....", "....G"]);
-        let cells = [(0, 0), (0, 1), (1, 1), (1, 2), (2, 2), (2, 3), (3, 3), (3, 4)];
+        let cells = [
+            (0, 0),
+            (0, 1),
+            (1, 1),
+            (1, 2),
+            (2, 2),
+            (2, 3),
+            (3, 3),
+            (3, 4),
+        ];
         let route = taut(&g, &centres(&g, &cells));
         assert_eq!(route, vec![g.centre((0, 0)), g.centre((3, 4))]);
     }

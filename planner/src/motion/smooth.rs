@@ -36,8 +36,8 @@ pub fn smooth_route(grid: &StateGrid, vertices: &[[f64; 2]]) -> Vec<[f64; 2]> {
         let length = (p2[0] - p1[0]).hypot(p2[1] - p1[1]);
         let handle = length.min(grid.cell_size[0].max(grid.cell_size[1]));
         let (m1, m2) = (tangent(vertices, k), tangent(vertices, k + 1));
-        let samples = ((length / step).ceil() as usize)
-            .clamp(MIN_SAMPLES_PER_SPAN, MAX_SAMPLES_PER_SPAN);
+        let samples =
+            ((length / step).ceil() as usize).clamp(MIN_SAMPLES_PER_SPAN, MAX_SAMPLES_PER_SPAN);
         let mut curve: Vec<[f64; 2]> = (1..samples)
             .map(|i| hermite(p1, p2, m1, m2, handle, i as f64 / samples as f64))
             .collect();
@@ -62,17 +62,36 @@ fn tangent(vertices: &[[f64; 2]], k: usize) -> [f64; 2] {
     let unit = |a: [f64; 2], b: [f64; 2]| {
         let d = [b[0] - a[0], b[1] - a[1]];
         let n = d[0].hypot(d[1]);
-        if n > 0.0 { [d[0] / n, d[1] / n] } else { [0.0, 0.0] }
+        if n > 0.0 {
+            [d[0] / n, d[1] / n]
+        } else {
+            [0.0, 0.0]
+        }
     };
     let last = vertices.len() - 1;
-    let inward = if k > 0 { unit(vertices[k - 1], vertices[k]) } else { [0.0, 0.0] };
-    let outward = if k < last { unit(vertices[k], vertices[k + 1]) } else { [0.0, 0.0] };
+    let inward = if k > 0 {
+        unit(vertices[k - 1], vertices[k])
+    } else {
+        [0.0, 0.0]
+    };
+    let outward = if k < last {
+        unit(vertices[k], vertices[k + 1])
+    } else {
+        [0.0, 0.0]
+    };
     unit([0.0, 0.0], [inward[0] + outward[0], inward[1] + outward[1]])
 }
 
 /// Cubic Hermite between `p1` and `p2` at t ∈ [0, 1] with unit tangents
 /// `m1`, `m2` scaled by `handle`.
-fn hermite(p1: [f64; 2], p2: [f64; 2], m1: [f64; 2], m2: [f64; 2], handle: f64, t: f64) -> [f64; 2] {
+fn hermite(
+    p1: [f64; 2],
+    p2: [f64; 2],
+    m1: [f64; 2],
+    m2: [f64; 2],
+    handle: f64,
+    t: f64,
+) -> [f64; 2] {
     let (t2, t3) = (t * t, t * t * t);
     let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
     let h10 = t3 - 2.0 * t2 + t;
@@ -112,7 +131,8 @@ mod tests {
         let path = smooth_route(&g, &vertices);
         for v in vertices {
             assert!(
-                path.iter().any(|p| (p[0] - v[0]).abs() < 1e-9 && (p[1] - v[1]).abs() < 1e-9),
+                path.iter()
+                    .any(|p| (p[0] - v[0]).abs() < 1e-9 && (p[1] - v[1]).abs() < 1e-9),
                 "{v:?} missing from {path:?}"
             );
         }
@@ -136,7 +156,10 @@ mod tests {
         let corner = g.centre((1, 3));
         let vertices = [g.centre((1, 1)), corner, g.centre((3, 3))];
         let path = smooth_route(&g, &vertices);
-        let at = path.iter().position(|&p| p == corner).expect("passes the corner");
+        let at = path
+            .iter()
+            .position(|&p| p == corner)
+            .expect("passes the corner");
         // The sample just before the corner leaves the straight line, by
         // less than a cell.
         let off = (path[at - 1][1] - corner[1]).abs();
