@@ -24,9 +24,9 @@
 //! - approach: grasp + `approach_clearance`;
 //! - carry: the tallest thing the route passes over (objects, goal walls,
 //!   hands, grown by their margins and the footprint; [`route_carry_height`])
-//!   + the held object's height + `carry_clearance`, so the held object's
-//!   bottom clears everything under it by at least `carry_clearance`; never
-//!   below the approach or release height. [`carry_height`] (the tallest
+//!   plus the held object's height plus `carry_clearance`, so the held
+//!   object's bottom clears everything under it by at least
+//!   `carry_clearance`; never below the approach or release height. [`carry_height`] (the tallest
 //!   thing on the whole table) is the fallback after a collision;
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top, exactly over its resting spot ([`crate::place`]). DROP opens the
@@ -357,8 +357,8 @@ pub fn carry_height(scenario: &Scenario, object: usize, settings: &LiftSettings)
 /// anywhere along `legs` (pixel polylines) — objects other than the held
 /// one and goal walls grown by the margins the grid paints them with (the
 /// sub-goal's own goal by none), hands by `hand_margin`, touching counts —
-/// + the object's height + `carry_clearance`; the object's height +
-/// `carry_clearance` when the route passes over nothing.
+/// plus the object's height plus `carry_clearance` (just those two when the
+/// route passes over nothing).
 pub fn route_carry_height(
     scenario: &Scenario,
     grid: &StateGrid,
