@@ -18,7 +18,9 @@ use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::{FieldIssue, HitPlace, PlanError, Refusal};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
-use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
+use crate::lift::{
+    GripperReach, LiftRequest, LiftSettings, LiftedMotion, Phase, carry_height, grasp_pose, lift,
+};
 use crate::motion::solve_motion;
 use crate::oracle;
 use crate::scenario::Scenario;
@@ -272,6 +274,9 @@ pub struct Planner {
 struct World {
     scene: Scenario,
     gripper_px: [f64; 2],
+    /// The tool's height above the table when it points down over
+    /// `gripper_px` (metres), `None` otherwise ([`start::tool_height_over`]).
+    gripper_height: Option<f64>,
     robot: Option<RobotModel>,
     geometry: Option<RobotGeometry>,
     /// The gripper's reach and opening (stage `waypoints` and later).
@@ -335,9 +340,13 @@ impl Planner {
             (Some(r), Some(g)) => Some(gripper_reach(r, g).map_err(PlanError::Robot)?),
             _ => None,
         };
+        let gripper_height = robot
+            .as_ref()
+            .and_then(|r| start::tool_height_over(scenario, r, &joints, gripper_px));
         let mut world = World {
             scene: scenario.clone(),
             gripper_px,
+            gripper_height,
             robot,
             geometry,
             gripper,
@@ -424,6 +433,9 @@ impl Planner {
                 .replannable_cell
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
+                // The route's carry height came first: a collision is met
+                // with the full height before any cell is blocked.
+                _ if hit.lowered && !retry.full_height => retry.full_height = true,
                 Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
                 _ if hit.at_grasp
                     && retry.turn + 1 < grasp_turns(world, request, &self.options) =>
@@ -487,17 +499,17 @@ impl Planner {
                 "the robot is needed to lift the plan",
             ));
         };
+        let lift_request = LiftRequest {
+            object: request.object,
+            goal: request.goal,
+            actions: &learned.actions,
+            cells: &learned.cells,
+            start_px: world.gripper_px,
+            start_height: world.gripper_height,
+            full_height: retry.full_height,
+        };
         let mut motion = timed(&mut timings.lift, || {
-            lift(
-                scene,
-                &task,
-                request.object,
-                request.goal,
-                &learned.actions,
-                &learned.cells,
-                gripper,
-                &options.lift,
-            )
+            lift(scene, &task, &lift_request, gripper, &options.lift)
         })?;
         let turn = f64::from(GRASP_TURNS[retry.turn]) * std::f64::consts::FRAC_PI_2;
         if turn != 0.0 {
@@ -516,6 +528,16 @@ impl Planner {
         })?;
         let arm = &robot.arms()[choice.arm_index];
         let start = arm.extract(&world.joints);
+        let mut choice = choice;
+        // The route starts where the tool is: a first waypoint whose IK lands
+        // on the current configuration is that configuration exactly.
+        if let Some(q) = choice.path.waypoints.first_mut()
+            && q.iter()
+                .zip(&start)
+                .all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
+        {
+            q.clone_from(&start);
+        }
         let first = choice
             .path
             .waypoints
@@ -550,9 +572,10 @@ impl Planner {
         })
         .map_err(|e| Refusal::internal("collision", e))?
         {
-            return Ok(Attempt::Collides(Box::new(Replan::of(
-                hit, offset, scene, &task, &motion, &arm.name,
-            ))));
+            let mut replan = Replan::of(hit, offset, scene, &task, &motion, &arm.name);
+            replan.lowered =
+                motion.carry_height < carry_height(scene, request.object, &options.lift) - 1e-9;
+            return Ok(Attempt::Collides(Box::new(replan)));
         }
         if options.until >= Stage::Trajectory {
             let request = TimingRequest {
@@ -607,6 +630,9 @@ struct Retry {
     /// Index into [`GRASP_TURNS`]: how the tool is turned about its axis at
     /// every waypoint of the pass.
     turn: usize,
+    /// Carry at the full height (the tallest thing on the table), not the
+    /// height the route needs.
+    full_height: bool,
 }
 
 /// Quarter turns of the tool tried in order after a hit where the hand
@@ -647,6 +673,8 @@ struct Replan {
     /// The hit is where the hand closes or opens on the object (approach,
     /// grasp, lift, release): turning the tool may avoid it.
     at_grasp: bool,
+    /// The motion carried lower than the full height (the route's height).
+    lowered: bool,
 }
 
 impl Replan {
@@ -687,6 +715,7 @@ impl Replan {
             refusal: collides(arm, &hit.collision, place),
             replannable_cell: cell,
             at_grasp,
+            lowered: false,
         }
     }
 }
@@ -697,6 +726,7 @@ impl World {
     /// (other arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
         self.gripper_px = done.release_px;
+        self.gripper_height = None;
         let object = &mut self.scene.objects[request.object];
         object.bbox = object.bbox.centred_at(self.gripper_px);
         let (Some(robot), Some(arm), Some(path)) = (&self.robot, &done.arm, &done.joint_path)
@@ -712,8 +742,14 @@ impl World {
         if let (Ok(arm), Some(last)) = (robot.arm(arm), last) {
             arm.insert(&mut self.joints, last);
         }
+        self.gripper_height =
+            start::tool_height_over(&self.scene, robot, &self.joints, self.gripper_px);
     }
 }
+
+/// Largest joint difference (rad or m) at which a solved configuration is
+/// taken as the current one (IK converges to about 1e-9).
+const SAME_CONFIGURATION: f64 = 1e-6;
 
 /// The arm's way back to its park posture after its last waypoint, through
 /// its home posture, in joint steps of at most 0.05 rad; empty for an arm

@@ -17,7 +17,8 @@ use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
-    BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSafetyArgs, BenchSeedArgs, ExitKind, Failure,
+    BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchRoutesArgs, BenchSafetyArgs, BenchSeedArgs,
+    ExitKind, Failure,
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
@@ -153,6 +154,29 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
     } else {
         print(&report.table())
     }
+}
+
+pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
+    if args.scenarios == 0 {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenarios must be at least 1",
+        ));
+    }
+    let bar = progress_bar(args.scenarios as u64, "scenes");
+    // Scenes in parallel, collected in scene order (thread count independent).
+    let measured: Vec<_> = (0..args.scenarios)
+        .into_par_iter()
+        .map(|k| {
+            let measured = afford_planner::bench::routes::run_scene(args.seed, k);
+            bar.inc(1);
+            measured
+        })
+        .collect();
+    bar.finish_and_clear();
+    let report =
+        afford_planner::bench::routes::RoutesReport::of(args.seed, args.scenarios, &measured);
+    print_report(&report, args.json)
 }
 
 /// Writes scenes `0..count` of the series `seed` as YAML scenario files.

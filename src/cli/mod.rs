@@ -187,6 +187,21 @@ pub enum BenchCommand {
     Pipeline(BenchPipelineArgs),
     /// The safety campaign: random scenes for both robots, planned and every trajectory re-checked.
     Safety(BenchSafetyArgs),
+    /// Planned tool routes on the safety campaign's scenes against the shortest any-angle paths around the perimeters.
+    Routes(BenchRoutesArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchRoutesArgs {
+    /// Number of generated scenes (the safety campaign's series).
+    #[arg(long, default_value_t = 200)]
+    pub scenarios: usize,
+    /// Seed of the scene series.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -295,5 +310,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
         Command::ExportMdp(args) => export::run(&args),
+        Command::Bench(BenchCommand::Routes(args)) => bench::routes(&args),
     }
 }

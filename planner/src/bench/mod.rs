@@ -1,14 +1,17 @@
 //! Benchmarks behind `afford bench`: seeded scene generation and the CQL
 //! experiment that reproduces the paper's Table 1 (CQL against QL, measured
 //! against the BFS oracle), the whole pipeline stage by stage, and the
-//! safety campaign (random scenes for both robots, planned and re-checked).
+//! safety campaign (random scenes for both robots, planned and re-checked),
+//! and the planned routes against the shortest any-angle paths.
 
 pub mod cql;
 pub mod generator;
 pub mod pipeline;
 pub mod refusal;
+pub mod routes;
 pub mod safety;
 pub mod scenes;
+pub mod visibility;
 
 /// Median of a sample (mean of the two middle values); 0 when empty.
 pub fn median(values: &[f64]) -> f64 {

@@ -166,6 +166,32 @@ pub fn is_parked(arm: &Arm, q_robot: &[f64]) -> bool {
             .all(|&(i, v)| (q_robot[i] - v).abs() <= LIMIT_TOLERANCE)
 }
 
+/// Horizontal distance (m) within which a tool is taken to be over a pixel.
+const OVER_PIXEL: f64 = 1e-3;
+/// Tilt (rad) within which a tool is taken to point down.
+const POINTS_DOWN: f64 = 0.01;
+
+/// The height above the table (metres) of the tool of an arm that points
+/// down within `POINTS_DOWN` rad over pixel `px` (within `OVER_PIXEL` m in
+/// the table plane) in the whole-robot configuration `joints`; the first
+/// such arm, `None` when no arm's tool is there. The route of the next
+/// sub-goal starts at this height, from where the tool really is.
+pub fn tool_height_over(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    joints: &[f64],
+    px: [f64; 2],
+) -> Option<f64> {
+    let [x, y] = scenario.pixel_to_base(px);
+    robot.arms().iter().find_map(|arm| {
+        let tool = arm.fk(&arm.extract(joints));
+        let p = tool.translation.vector;
+        let down = (tool.rotation * Vec3::z()).angle(&-Vec3::z());
+        ((p.x - x).hypot(p.y - y) <= OVER_PIXEL && down <= POINTS_DOWN)
+            .then(|| p.z - scenario.camera.table_z)
+    })
+}
+
 /// `start`, when the tool of the arm nearest it lies within one grid cell of
 /// it (along u and along v); otherwise the issue naming both fields.
 fn agreeing_start(
