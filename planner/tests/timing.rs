@@ -921,3 +921,30 @@ fn measure_examples() {
         }
     }
 }
+
+/// Per example sub-goal: moving time against the converged reference,
+/// timing wall time, reversals, peak jerk (not run by default):
+/// `cargo test --release -p afford-planner --test timing -- --ignored --nocapture measure_example_subgoals`.
+#[test]
+#[ignore = "measurement: prints per-sub-goal figures"]
+fn measure_example_subgoals() {
+    let mut options = PlanOptions::default();
+    if let Ok(rounds) = std::env::var("AFFORD_REFINE_ROUNDS") {
+        options.timing.refine_rounds = rounds.parse().unwrap();
+    }
+    for f in afford_planner::timing::examples::measure_examples(&options) {
+        println!(
+            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4}  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({})",
+            f.example,
+            f.subgoal,
+            f.duration_s,
+            f.reference_s,
+            f.ratio_to_optimal,
+            f.timing_ms,
+            f.max_velocity_reversals,
+            f.reversal_joint,
+            f.peak_jerk,
+            f.jerk_joint
+        );
+    }
+}
