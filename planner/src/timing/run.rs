@@ -51,7 +51,7 @@ pub struct TimingSettings {
     /// At least one segment per spline piece is used, so more waypoints than
     /// this give more.
     pub path_points: usize,
-    /// Refinement rounds after the first solve, 3: each cuts every segment
+    /// Refinement rounds after the first solve, 1: each cuts every segment
     /// where a constraint binds into 4 and solves again (see
     /// docs/decisions.md: the bound segments are where the per-segment
     /// bounds cost time).
@@ -93,7 +93,7 @@ impl Default for TimingSettings {
     fn default() -> Self {
         Self {
             path_points: 300,
-            refine_rounds: 3,
+            refine_rounds: 1,
             refine_tolerance: 1e-3,
             rate_hz: 100.0,
             speed_scale: 1.0,
