@@ -988,7 +988,10 @@ fn dense_waypoints_refined_towards_the_converged_optimum() {
         &TimingSettings::default(),
     ));
     println!("plain {plain} refined {refined} reference {reference}");
-    assert!(reference <= refined * (1.0 + 1e-9), "{reference} > {refined}");
+    assert!(
+        reference <= refined * (1.0 + 1e-9),
+        "{reference} > {refined}"
+    );
     assert!(refined <= plain * (1.0 + 1e-9), "{refined} > {plain}");
     assert!(
         refined - reference < 0.5 * (plain - reference),
