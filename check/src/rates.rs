@@ -332,6 +332,7 @@ mod tests {
             upper: 2.0 * std::f64::consts::PI,
             velocity: 1.0,
             acceleration: 2.0,
+            jerk: 100.0,
             effort: 1.0,
         }
     }
