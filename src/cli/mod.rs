@@ -5,6 +5,8 @@ mod check;
 mod output;
 mod plan;
 mod robots;
+mod run;
+mod run_svg;
 mod validate;
 
 use std::path::PathBuf;
@@ -30,9 +32,35 @@ pub enum Command {
     /// List the built-in robots with their arms, degrees of freedom and reach;
     /// `afford robots acm ROBOT` derives a robot's allowed-collision matrix.
     Robots(RobotsArgs),
+    /// Execute a scenario's plan against its observation timeline with the valid-policy detector: wait, slow, replan, take new work; writes the executed timeline and the event log.
+    Run(RunArgs),
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scenario file with an optional `observations:` timeline; omitted: the built-in default scenario.
+    pub scenario: Option<PathBuf>,
+    /// Seed for every random choice; same scenario + seed gives byte-identical output (without --timings).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output format (csv: one row per executed sample).
+    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
+    pub format: OutputFormat,
+    /// Write the executed run to this file instead of standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Also draw the executed run and its events as an SVG picture.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+    /// Controller sampling rate, Hz.
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Add each decision's wall-clock time (µs) and replan time (ms) to the events: the output is then no longer reproducible.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -257,6 +285,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         }) => robots::acm(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Run(args) => run::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),

@@ -42,8 +42,9 @@ pub struct PlanPoint {
     pub fraction: f64,
 }
 
-/// The phases of one sub-goal's timed motion, split by its gripper events.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// The phases of one sub-goal's timed motion, split by its gripper events,
+/// in the order they happen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MotionPhase {
     /// From the start to the gripper's close command.
