@@ -46,9 +46,18 @@ impl Monitor {
                     replan_ms = Some(started.elapsed().as_secs_f64() * 1e3);
                     Some(v)
                 }
-                None if !fresh.is_empty() => Some(Verdict::NewWork { subgoals: fresh }),
+                None if !fresh.is_empty() => Some(Verdict::NewWork {
+                    subgoals: fresh.clone(),
+                }),
                 None => None,
             };
+            if let (Some(v), false) = (&verdict, fresh.is_empty())
+                && !matches!(v, Verdict::NewWork { .. })
+            {
+                // Both at once: the new work is logged on its own.
+                let new_work = Verdict::NewWork { subgoals: fresh };
+                self.log(&new_work, &[], 0.0, None);
+            }
             // A replan or new work is acted on once; a wait or an abort
             // stands until the scene changes.
             self.trigger = Some(match &verdict {

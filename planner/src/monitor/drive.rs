@@ -81,6 +81,7 @@ impl Monitor {
                 gripper: Vec::new(),
             },
             scene: None,
+            scene_at_start: Some(self.scene.clone()),
         });
     }
 
@@ -195,10 +196,15 @@ impl Monitor {
             });
         }
         let mut seen = self.scene.clone();
-        if let (Some(i), Some(held)) = (seen.object_index(&g.object), &self.held) {
-            seen.objects[i].bbox = held.grasped_box;
-        }
         if let Some(e) = self.executed.last_mut() {
+            if let Some(start) = &e.scene_at_start {
+                seen.objects
+                    .retain(|o| o.name == g.object || start.objects.contains(o));
+                seen.hands.retain(|h| start.hands.contains(h));
+            }
+            if let (Some(i), Some(held)) = (seen.object_index(&g.object), &self.held) {
+                seen.objects[i].bbox = held.grasped_box;
+            }
             e.scene = Some(seen);
         }
         put_in_goal(&mut self.scene, &g);
@@ -363,18 +369,18 @@ impl Monitor {
         decision_us: f64,
         replan_ms: Option<f64>,
     ) {
+        // Braking for a replan is part of the replan's event.
+        if changes.is_empty() && matches!(self.pending, Some(Pending::AtRest(_))) {
+            return;
+        }
         let name = verdict.name();
         let scale = match verdict {
             Verdict::Slow { scale } => Some(*scale),
             _ => None,
         };
-        let same = name == self.last
-            && matches!(
-                verdict,
-                Verdict::Continue | Verdict::Stop | Verdict::Wait { .. }
-            );
-        let slow_same = matches!(verdict, Verdict::Slow { .. }) && name == self.last;
-        if changes.is_empty() && (same || slow_same) {
+        // A standing verdict is logged once; replans and new work each time.
+        let standing = !matches!(verdict, Verdict::Replan { .. } | Verdict::NewWork { .. });
+        if changes.is_empty() && standing && name == self.last {
             return;
         }
         self.last = name;

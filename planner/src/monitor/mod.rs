@@ -62,11 +62,18 @@ pub struct ExecutedSubgoal {
     /// Execution time when the sub-goal began, s.
     pub start_time: f64,
     pub trajectory: TimedMotion,
-    /// The scene as believed when the sub-goal ended, with its object back
-    /// where the gripper took it from: what the independent check of this
-    /// sub-goal is run against (not serialised).
+    /// What the independent check of this sub-goal is run against (not
+    /// serialised): the goals as believed when it ended, its object where
+    /// the gripper took it from, and the other objects and the hands that
+    /// stayed where they were from its start to its end. An element that
+    /// came or moved meanwhile was checked by the monitor against the
+    /// motion still ahead when it came ([`route`]), not against the motion
+    /// already done, which it never met.
     #[serde(skip)]
     pub scene: Option<Scenario>,
+    /// The scene believed when the sub-goal began (not serialised).
+    #[serde(skip)]
+    pub scene_at_start: Option<Scenario>,
 }
 
 /// How the execution stands.

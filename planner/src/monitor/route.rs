@@ -4,9 +4,10 @@
 //! perimeter, by the planner's own continuous check
 //! ([`crate::clearance::check_motion`]). It runs only when a change could
 //! matter: an element that appeared or moved within [`REACH_M`] (plus its
-//! margin) of the remaining tool path in the table plane, or one whose top
-//! comes within [`REACH_M`] of the lowest remaining tool height. Anything
-//! else is farther from every robot body than the grid and the check look.
+//! margin) of the remaining tool path in the table plane, or one at least
+//! [`TALL_M`] tall anywhere (an elbow can reach it away from the tool).
+//! Anything else is farther from every robot body than the grid and the
+//! check look.
 
 use afford_collision::{Collision, RobotGeometry};
 use afford_kinematics::RobotModel;
@@ -20,6 +21,9 @@ use super::belief::{Change, ElementKind};
 /// How far from the tool path a change is looked at, m: the gripper's and
 /// a held piece's reach from the tool point with room to spare.
 pub const REACH_M: f64 = 0.15;
+
+/// Elements at least this tall are re-checked wherever they are, m.
+pub const TALL_M: f64 = 0.15;
 
 /// The remaining trajectory of one sub-goal.
 pub struct RemainingMotion<'a> {
@@ -39,7 +43,6 @@ pub struct RemainingMotion<'a> {
 /// True when one of `changes` in `scene` could touch the remaining motion.
 pub fn could_touch(scene: &Scenario, changes: &[Change], m: &RemainingMotion) -> bool {
     let ahead = &m.tool[m.from.min(m.tool.len())..];
-    let lowest = ahead.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
     let [mu, mv] = scene.metres_per_pixel();
     let pixels: Vec<[f64; 2]> = ahead
         .iter()
@@ -54,8 +57,7 @@ pub fn could_touch(scene: &Scenario, changes: &[Change], m: &RemainingMotion) ->
         };
         let reach = REACH_M + margin;
         let near = bbox.grown(reach / mu, reach / mv);
-        let tall = scene.camera.table_z + height + REACH_M >= lowest;
-        tall || pixels.iter().any(|&p| near.contains(p))
+        height >= TALL_M || pixels.iter().any(|&p| near.contains(p))
     })
 }
 
