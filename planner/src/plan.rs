@@ -349,10 +349,24 @@ impl Planner {
         goals: &[SubGoal],
         from: &MidExecution,
     ) -> Result<Plan, PlanError> {
-        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
         let robot = RobotModel::load(&scenario.robot.model, &self.options.base_dir)
             .map_err(|e| PlanError::Robot(e.to_string()))?;
         let geometry = RobotGeometry::new(&robot).map_err(|e| PlanError::Robot(e.to_string()))?;
+        self.plan_from_loaded(scenario, &robot, &geometry, goals, from)
+    }
+
+    /// [`Self::plan_from`] with the scenario's robot already loaded (a
+    /// monitor replanning keeps it).
+    pub fn plan_from_loaded(
+        &self,
+        scenario: &Scenario,
+        robot: &RobotModel,
+        geometry: &RobotGeometry,
+        goals: &[SubGoal],
+        from: &MidExecution,
+    ) -> Result<Plan, PlanError> {
+        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        let (robot, geometry) = (robot.clone(), geometry.clone());
         let gripper = gripper_reach(&robot, &geometry).map_err(PlanError::Robot)?;
         let arm = from.held.as_ref().map(|h| h.arm.as_str());
         let start = start::mid_execution(scenario, &robot, from.joints.clone(), arm);

@@ -184,6 +184,21 @@ pub enum BenchCommand {
     Pipeline(BenchPipelineArgs),
     /// The safety campaign: random scenes for both robots, planned and every trajectory re-checked.
     Safety(BenchSafetyArgs),
+    /// The valid-policy detector on seeded planned scenes: relevant and irrelevant perturbations (by construction), detections, false triggers, decision and replan times.
+    Monitor(BenchMonitorArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchMonitorArgs {
+    /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
+    #[arg(long, default_value_t = afford_planner::bench::monitor::MonitorBenchConfig::default().scenes)]
+    pub scenes: usize,
+    /// Seed of the scene series.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -292,5 +307,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
+        Command::Bench(BenchCommand::Monitor(args)) => bench::monitor(&args),
     }
 }

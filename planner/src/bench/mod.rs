@@ -5,6 +5,7 @@
 
 pub mod cql;
 pub mod generator;
+pub mod monitor;
 pub mod pipeline;
 pub mod refusal;
 pub mod safety;

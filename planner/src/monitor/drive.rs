@@ -238,7 +238,8 @@ impl Monitor {
             joints: self.joints.clone(),
             held: None,
         };
-        match Planner::new(self.options.clone()).plan_from(&self.scene, &goals, &from) {
+        let planner = Planner::new(self.options.clone());
+        match planner.plan_from_loaded(&self.scene, &self.robot, &self.geometry, &goals, &from) {
             Ok(plan) if !plan.subgoals.is_empty() => self.adopt(plan),
             result => {
                 self.current -= 1;
@@ -261,7 +262,8 @@ impl Monitor {
         if goals.is_empty() {
             return Verdict::Continue;
         }
-        let planned = Planner::new(self.options.clone()).plan_from(&scene, &goals, &from);
+        let planner = Planner::new(self.options.clone());
+        let planned = planner.plan_from_loaded(&scene, &self.robot, &self.geometry, &goals, &from);
         match planned {
             Ok(plan)
                 if plan
