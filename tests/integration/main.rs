@@ -7,6 +7,7 @@ mod cli;
 mod cql_properties;
 mod examples;
 mod instructions;
+mod monitor;
 mod pipeline;
 mod safety;
 mod scenario_errors;
