@@ -8,8 +8,8 @@
 //! | kind | relevant | built as |
 //! |---|---|---|
 //! | `goal_moved` | yes | the box shifted by its width (or length) plus 10 px, so the planned release footprint lies outside it |
-//! | `hand_on_route` | yes | a hand on a cell the policy still visits |
-//! | `blocker_on_route` | yes | a new object on a cell the policy still visits |
+//! | `hand_on_route` | yes | a hand on a cell the policy still visits, three or more cells ahead, a cell clear of the other pieces' perimeters |
+//! | `blocker_on_route` | yes | a new object on such a cell |
 //! | `new_piece` | yes | a new blue square (the instruction says "all") |
 //! | `piece_moved_away` | no | the red square moved where its box, grown by its margin and one cell, misses every cell still visited and lies [`REACH_M`] + margin from every remaining tool position |
 //! | `hand_far_away` | no | a hand placed likewise with the hand margin, and where the tool-speed cap of every remaining sample ([`crate::timing::SeparationSettings::tool_speed_cap`]) exceeds its planned speed with the monitor's tolerance |
@@ -46,7 +46,7 @@ pub struct MonitorBenchConfig {
 impl Default for MonitorBenchConfig {
     fn default() -> Self {
         Self {
-            scenes: 40,
+            scenes: 60,
             seed: 1,
         }
     }
@@ -213,7 +213,7 @@ fn perturb(
             },
         ));
     }
-    if let Some(cell) = ahead.route_cell(rng) {
+    if let Some(cell) = ahead.route_cell(scene) {
         let hand = Hand {
             name: "hand-9".into(),
             bbox: cell,
@@ -380,6 +380,8 @@ fn free_spot(scene: &Scenario, rng: &mut ChaCha8Rng) -> Option<PixelBox> {
 /// The plan ahead of one moment: the cells the policy still visits and the
 /// remaining tool positions.
 struct Ahead {
+    /// The cell the policy is at.
+    here: PixelBox,
     cells: Vec<PixelBox>,
     /// Remaining tool positions (base frame, m) and their pixels.
     tool: Vec<[f64; 3]>,
@@ -388,33 +390,49 @@ struct Ahead {
 
 impl Ahead {
     fn new(scene: &Scenario, sub: &SubgoalPlan, track: &Track, sample: usize) -> Self {
-        let done = track.done[sample];
+        let done = track.done[sample].min(sub.cells.len() - 1);
         let g = &sub.grid;
-        let cells = sub.cells[(done + 1).min(sub.cells.len())..]
-            .iter()
-            .map(|&[r, c]| PixelBox {
-                u: g.origin_px[0] + c as f64 * g.cell_px[0],
-                v: g.origin_px[1] + r as f64 * g.cell_px[1],
-                w: g.cell_px[0],
-                l: g.cell_px[1],
-            })
-            .collect();
+        let cell = |&[r, c]: &[usize; 2]| PixelBox {
+            u: g.origin_px[0] + c as f64 * g.cell_px[0],
+            v: g.origin_px[1] + r as f64 * g.cell_px[1],
+            w: g.cell_px[0],
+            l: g.cell_px[1],
+        };
+        let here = cell(&sub.cells[done]);
+        let cells = sub.cells[done + 1..].iter().map(cell).collect();
         let tool = track.tool[sample..].to_vec();
         let pixels = tool
             .iter()
             .map(|p| scene.base_to_pixel([p[0], p[1]]))
             .collect();
         Self {
+            here,
             cells,
             tool,
             pixels,
         }
     }
 
-    /// A cell the policy still visits outside the goal (its middle one).
-    fn route_cell(&self, _rng: &mut ChaCha8Rng) -> Option<PixelBox> {
+    /// A cell the policy still visits, at least three cells from the one
+    /// under the tool (an obstacle painted next to the gripper is one it
+    /// may leave over, [`crate::grid`]), before the goal: the first such.
+    /// Its painted region also stays a cell clear of the other pieces'
+    /// (an obstacle region joined to one under the gripper is left over
+    /// too).
+    fn route_cell(&self, scene: &Scenario) -> Option<PixelBox> {
+        let here = self.here;
         let n = self.cells.len();
-        (n >= 3).then(|| self.cells[n / 2 - 1])
+        let [mu, mv] = scene.metres_per_pixel();
+        let m = scene.safety.sensitive_margin;
+        self.cells[..n.saturating_sub(2)].iter().copied().find(|c| {
+            let (du, dv) = ((c.u - here.u) / c.w, (c.v - here.v) / c.l);
+            let painted = c.grown(m / mu + c.w, m / mv + c.l);
+            du.abs().max(dv.abs()) >= 2.5
+                && scene
+                    .objects
+                    .iter()
+                    .all(|o| apart(&o.bbox.grown(m / mu, m / mv), &painted, 0.0))
+        })
     }
 
     /// A spot for `b`'s footprint with `margin` (m) that misses every cell

@@ -102,13 +102,11 @@ impl Monitor {
         let motion = self.motion();
         let from = Track::sample_at(motion, self.cursor.s);
         let until = Track::sample_at(motion, self.cursor.s + LOOKAHEAD_S);
-        let tool = self.tool_now();
-        match separation::rule(
-            &self.scene,
-            &hands(&self.scene),
-            tool,
-            &track.speed[from..=until],
-        ) {
+        let mut tools = vec![self.tool_now()];
+        tools.extend_from_slice(&track.tool[from + 1..=until.max(from)]);
+        let mut speeds = vec![track.speed[from]];
+        speeds.extend_from_slice(&track.speed[from + 1..=until.max(from)]);
+        match separation::rule(&self.scene, &hands(&self.scene), &tools, &speeds) {
             Separation::Clear => Verdict::Continue,
             Separation::Slow { scale, .. } => Verdict::Slow { scale },
             Separation::Stop { .. } => Verdict::Stop,

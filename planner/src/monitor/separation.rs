@@ -4,8 +4,8 @@
 //! gives the tool-speed cap `v(d)` the timing stage plans with (the
 //! protective-separation formula, the collaborative reduced speed inside
 //! `reduced_speed_distance_m`, the crawl floor). When the speed the plan
-//! asks for over the next [`LOOKAHEAD_S`] exceeds it, the robot slows by
-//! `scale = v(d) / v_planned` (planned speeds within [`TOLERANCE`] of the
+//! asks for at a sample of the next [`LOOKAHEAD_S`] exceeds the cap at that
+//! sample's distance, the robot slows by `scale = v(d) / v_planned` (planned speeds within [`TOLERANCE`] of the
 //! cap pass: the planner's own cap is evaluated per waypoint); when the tool
 //! is inside a hand's safety perimeter (its box grown by `hand_margin`,
 //! the perimeter the grid and the collision check keep) or the formula
@@ -36,24 +36,31 @@ pub enum Separation {
     Stop { distance: f64 },
 }
 
-/// The rule for the tool at `tool` (base frame, m) with the planned tool
-/// speeds `ahead` (m/s, the samples of the next [`LOOKAHEAD_S`]).
-pub fn rule(scene: &Scenario, hands: &[Hand], tool: [f64; 3], ahead: &[f64]) -> Separation {
-    if hands.is_empty() {
+/// The rule for the tool now at `tools[0]` (base frame, m), with the
+/// positions and planned tool speeds (m/s) of the samples of the next
+/// [`LOOKAHEAD_S`]: each sample's speed against the cap at its own distance
+/// from the nearest hand; the scale is the smallest ratio.
+pub fn rule(scene: &Scenario, hands: &[Hand], tools: &[[f64; 3]], speeds: &[f64]) -> Separation {
+    let Some(&now) = tools.first().filter(|_| !hands.is_empty()) else {
         return Separation::Clear;
-    }
+    };
     let settings = &scene.safety.separation;
-    let d = nearest_hand_distance(hands, tool);
-    let cap = settings.tool_speed_cap(d);
-    if cap <= 0.0 || inside_perimeter(scene, tool) {
-        return Separation::Stop { distance: d };
+    let distance = nearest_hand_distance(hands, now);
+    if inside_perimeter(scene, now) {
+        return Separation::Stop { distance };
     }
-    let planned = ahead.iter().copied().fold(0.0, f64::max);
-    match planned > cap * (1.0 + TOLERANCE) {
-        true => Separation::Slow {
-            scale: (cap / planned).clamp(0.0, 1.0),
-            distance: d,
-        },
+    let mut scale: f64 = 1.0;
+    for (tool, &planned) in tools.iter().zip(speeds) {
+        let cap = settings.tool_speed_cap(nearest_hand_distance(hands, *tool));
+        if cap <= 0.0 {
+            return Separation::Stop { distance };
+        }
+        if planned > cap * (1.0 + TOLERANCE) {
+            scale = scale.min(cap / planned);
+        }
+    }
+    match scale < 1.0 {
+        true => Separation::Slow { scale, distance },
         false => Separation::Clear,
     }
 }
