@@ -36,10 +36,10 @@ fn monitor_braking_stops_on_plan_samples_within_the_joint_limits() {
             step.point.positions, planned.positions,
             "never leaves the path"
         );
-        for j in 0..limits.velocity.len() {
+        for (j, before) in previous.iter().enumerate() {
             assert!(step.point.velocities[j].abs() <= limits.velocity[j]);
             assert!(step.point.accelerations[j].abs() <= limits.acceleration[j]);
-            let change = (step.point.velocities[j] - previous[j] * braking.sigma) / step.duration;
+            let change = (step.point.velocities[j] - before * braking.sigma) / step.duration;
             assert!(
                 change.abs() <= limits.acceleration[j] * 1.0001,
                 "joint {j}: {change}"

@@ -30,7 +30,7 @@ impl Monitor {
         let track = &self.tracks[self.current];
         track
             .holding(self.cursor.s)
-            .then(|| self.held.as_ref())
+            .then_some(self.held.as_ref())
             .flatten()
             .map(|h| (h.object.as_str(), h.grasped_box))
     }
