@@ -23,7 +23,7 @@ use crate::lift::{
 };
 use crate::motion::solve_motion;
 use crate::oracle;
-use crate::scenario::Scenario;
+use crate::scenario::{PixelBox, Scenario};
 use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
 use crate::timing::TimingSettings;
@@ -213,6 +213,29 @@ pub struct JointState {
     pub positions: Vec<f64>,
 }
 
+/// Where a replanned execution starts (the monitor's braking stop or the
+/// end of a sub-goal): the whole robot's joint state, in
+/// [`RobotModel::joints`] order, and the object the gripper holds, if any.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MidExecution {
+    pub joints: Vec<f64>,
+    pub held: Option<HeldObject>,
+}
+
+/// An object in the gripper: its first sub-goal only carries it on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldObject {
+    /// The scenario object's name.
+    pub object: String,
+    /// Its box where it rested when the fingers closed, pixels: with
+    /// `grasp` it fixes the object's pose in the gripper.
+    pub grasped_box: PixelBox,
+    /// The arm holding it.
+    pub arm: String,
+    /// That arm's configuration when the fingers closed.
+    pub grasp: Vec<f64>,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridInfo {
     pub size: [usize; 2],
@@ -282,6 +305,9 @@ struct World {
     /// The gripper's reach and opening (stage `waypoints` and later).
     gripper: Option<GripperReach>,
     joints: Vec<f64>,
+    /// The object in the gripper when planning starts mid-execution; only
+    /// the first sub-goal carries it ([`Planner::plan_from`]).
+    held: Option<HeldObject>,
 }
 
 impl Planner {
@@ -351,6 +377,7 @@ impl Planner {
             geometry,
             gripper,
             joints,
+            held: None,
         };
         let mut plan = Plan {
             scenario: scenario.name.clone().unwrap_or_default(),
@@ -362,22 +389,7 @@ impl Planner {
             unsolved: Vec::new(),
             timings: StageTimings::default(),
         };
-        for (k, goal) in goals.iter().enumerate() {
-            let request = request(&world.scene, goal, world.gripper_px);
-            match self.plan_subgoal(
-                &world,
-                goal,
-                request,
-                subgoal_seed(options.seed, k),
-                &mut timings,
-            ) {
-                Ok(done) => {
-                    world.advance(request, &done);
-                    plan.subgoals.push(done);
-                }
-                Err(refusal) => plan.unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
-            }
-        }
+        self.plan_goals(&mut world, &goals, &mut plan, &mut timings);
         plan.timings = timings;
         if plan.subgoals.is_empty() {
             let reasons = plan
@@ -390,6 +402,113 @@ impl Planner {
                 unsolved: plan.unsolved,
             });
         }
+        Ok(plan)
+    }
+
+    /// Plans `goals` in order from `world`, each from where the one before
+    /// ended; unsolvable ones go to `plan.unsolved`.
+    fn plan_goals(
+        &self,
+        world: &mut World,
+        goals: &[SubGoal],
+        plan: &mut Plan,
+        timings: &mut StageTimings,
+    ) {
+        for (k, goal) in goals.iter().enumerate() {
+            let request = request(&world.scene, goal, world.gripper_px);
+            match self.plan_subgoal(
+                world,
+                goal,
+                request,
+                subgoal_seed(self.options.seed, k),
+                timings,
+            ) {
+                Ok(done) => {
+                    world.advance(request, &done);
+                    plan.subgoals.push(done);
+                }
+                Err(refusal) => plan.unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
+            }
+        }
+    }
+
+    /// Plans `goals` (every stage) from a mid-execution state: the robot
+    /// where it stopped, the grid starting under the tool of the arm that
+    /// moved, and — when `from.held` names the first goal's object — that
+    /// sub-goal only carries the object on from where it is (no travel, no
+    /// grasp: its trajectory has no close command). `Err` as for
+    /// [`Self::plan`]; `scenario` is the scene as the camera sees it now.
+    pub fn plan_from(
+        &self,
+        scenario: &Scenario,
+        goals: &[SubGoal],
+        from: &MidExecution,
+    ) -> Result<Plan, PlanError> {
+        let robot = RobotModel::load(&scenario.robot.model, &self.options.base_dir)
+            .map_err(|e| PlanError::Robot(e.to_string()))?;
+        let geometry = RobotGeometry::new(&robot).map_err(|e| PlanError::Robot(e.to_string()))?;
+        self.plan_from_loaded(scenario, &robot, &geometry, goals, from)
+    }
+
+    /// [`Self::plan_from`] with the scenario's robot already loaded (a
+    /// monitor replanning keeps it).
+    pub fn plan_from_loaded(
+        &self,
+        scenario: &Scenario,
+        robot: &RobotModel,
+        geometry: &RobotGeometry,
+        goals: &[SubGoal],
+        from: &MidExecution,
+    ) -> Result<Plan, PlanError> {
+        self.options.validate()?;
+        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        let (robot, geometry) = (robot.clone(), geometry.clone());
+        let gripper = gripper_reach(&robot, &geometry).map_err(PlanError::Robot)?;
+        let arm = from.held.as_ref().map(|h| h.arm.as_str());
+        let start = start::mid_execution(scenario, &robot, from.joints.clone(), arm);
+        let mut scene = scenario.clone();
+        let held = from
+            .held
+            .clone()
+            .filter(|h| goals.first().is_some_and(|g| g.object == h.object));
+        if let Some(object) = held.as_ref().and_then(|h| scene.object_index(&h.object)) {
+            // The camera sees the held object under the gripper.
+            let b = &mut scene.objects[object].bbox;
+            *b = b.centred_at(start.gripper_px);
+        }
+        let gripper_height =
+            start::tool_height_over(&scene, &robot, &start.joints, start.gripper_px);
+        let mut world = World {
+            scene,
+            gripper_px: start.gripper_px,
+            gripper_height,
+            robot: None,
+            geometry: Some(geometry),
+            gripper: Some(gripper),
+            joints: start.joints,
+            held,
+        };
+        let mut plan = Plan {
+            scenario: scenario.name.clone().unwrap_or_default(),
+            seed: self.options.seed,
+            until: Stage::Trajectory,
+            start_state: Some(JointState {
+                joint_names: robot.joints().iter().map(|j| j.name.clone()).collect(),
+                positions: from.joints.clone(),
+            }),
+            skipped: Vec::new(),
+            subgoals: Vec::new(),
+            unsolved: Vec::new(),
+            timings: StageTimings::default(),
+        };
+        world.robot = Some(robot);
+        let planner = Planner::new(PlanOptions {
+            until: Stage::Trajectory,
+            ..self.options.clone()
+        });
+        let mut timings = StageTimings::default();
+        planner.plan_goals(&mut world, goals, &mut plan, &mut timings);
+        plan.timings = timings;
         Ok(plan)
     }
 
@@ -515,6 +634,10 @@ impl Planner {
         if turn != 0.0 {
             motion.waypoints.iter_mut().for_each(|w| w.yaw += turn);
         }
+        let held = world.held.as_ref().filter(|h| h.object == goal.object);
+        if held.is_some() {
+            carry_on(&mut motion);
+        }
         let (Some(robot), Some(geometry), true) = (
             &world.robot,
             &world.geometry,
@@ -556,7 +679,9 @@ impl Planner {
             .collect();
         joint_path.extend(return_to_park(arm, &world.joints, &joint_path));
         let (grasp_at, release_at) = motion.gripper_switches();
-        let (grasp_at, release_at) = (grasp_at + offset, release_at + offset);
+        // An object already held is held from the start.
+        let grasp_at = held.map_or(grasp_at + offset, |_| 0);
+        let release_at = release_at + offset;
         let check = ArmMotion {
             scenario: scene,
             target: request.object,
@@ -566,6 +691,7 @@ impl Planner {
             path: &joint_path,
             grasp_at,
             release_at,
+            held: held.map(|h| (h.grasped_box, h.grasp.as_slice())),
         };
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
@@ -587,7 +713,10 @@ impl Planner {
                 separation: &scene.safety.separation,
                 settings: &options.timing,
             };
-            let timed_motion = timed(&mut timings.timing, || time_motion(&request))?;
+            let mut timed_motion = timed(&mut timings.timing, || time_motion(&request))?;
+            if held.is_some() {
+                drop_leading_close(&mut timed_motion);
+            }
             let (grasp_at, release_at) = timed_motion.gripper_samples();
             let positions: Vec<Vec<f64>> = timed_motion
                 .points
@@ -725,6 +854,7 @@ impl World {
     /// the goal box, the gripper is over it, the arm where its path ended
     /// (other arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
+        self.held = None;
         self.gripper_px = done.release_px;
         self.gripper_height = None;
         let object = &mut self.scene.objects[request.object];
@@ -809,6 +939,39 @@ fn joint_steps(a: &[f64], b: &[f64]) -> Vec<Vec<f64>> {
                 .collect()
         })
         .collect()
+}
+
+/// The lifted motion of an object already in the gripper: everything up
+/// to the lift (travel, approach, grasp, lift) is dropped, so the motion
+/// starts with the carry.
+fn carry_on(motion: &mut LiftedMotion) {
+    let carry = motion
+        .waypoints
+        .iter()
+        .position(|w| matches!(w.phase, Phase::Carry | Phase::OverWall))
+        .unwrap_or(0);
+    motion.waypoints.drain(..carry);
+}
+
+/// The trajectory of a motion that starts holding: the close command the
+/// timing stage put at t = 0 (and the rest it waited for it) is dropped.
+fn drop_leading_close(motion: &mut TimedMotion) {
+    let Some(close) = motion
+        .gripper
+        .iter()
+        .position(|e| e.command == crate::trajectory::GripperCommand::Close)
+    else {
+        return;
+    };
+    let shift = motion.gripper.remove(close).end;
+    motion.points.retain(|p| p.time_from_start >= shift - 1e-9);
+    for p in &mut motion.points {
+        p.time_from_start = (p.time_from_start - shift).max(0.0);
+    }
+    for e in &mut motion.gripper {
+        e.start -= shift;
+        e.end -= shift;
+    }
 }
 
 /// Plans `scenario` with `options`: `Planner::new(options).plan(scenario)`.

@@ -6,6 +6,8 @@ mod export;
 mod output;
 mod plan;
 mod robots;
+mod run;
+mod run_svg;
 mod summary;
 mod validate;
 
@@ -32,6 +34,8 @@ pub enum Command {
     /// List the built-in robots with their arms, degrees of freedom and reach;
     /// `afford robots acm ROBOT` derives a robot's allowed-collision matrix.
     Robots(RobotsArgs),
+    /// Execute a scenario's plan against its observation timeline with the valid-policy detector: wait, slow, replan, take new work; writes the executed timeline and the event log.
+    Run(RunArgs),
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -56,6 +60,30 @@ pub struct ExportMdpArgs {
     /// Folder to write the files to (created when missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scenario file with an optional `observations:` timeline; omitted: the built-in default scenario.
+    pub scenario: Option<PathBuf>,
+    /// Seed for every random choice; same scenario + seed gives byte-identical output (without --timings).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output format (csv: one row per executed sample).
+    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
+    pub format: OutputFormat,
+    /// Write the executed run to this file instead of standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Also draw the executed run and its events as an SVG picture.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+    /// Controller sampling rate, Hz.
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Add each decision's wall-clock time (µs) and replan time (ms) to the events: the output is then no longer reproducible.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -189,6 +217,8 @@ pub enum BenchCommand {
     Safety(BenchSafetyArgs),
     /// Planned tool routes on the safety campaign's scenes against the shortest any-angle paths around the perimeters.
     Routes(BenchRoutesArgs),
+    /// The valid-policy detector on seeded planned scenes: relevant and irrelevant perturbations (by construction), detections, false triggers, decision and replan times.
+    Monitor(BenchMonitorArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -196,6 +226,19 @@ pub struct BenchRoutesArgs {
     /// Number of generated scenes (the safety campaign's series).
     #[arg(long, default_value_t = 200)]
     pub scenarios: usize,
+    /// Seed of the scene series.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchMonitorArgs {
+    /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
+    #[arg(long, default_value_t = afford_planner::bench::monitor::MonitorBenchConfig::default().scenes)]
+    pub scenes: usize,
     /// Seed of the scene series.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -303,6 +346,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         }) => robots::acm(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Run(args) => run::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
@@ -311,5 +355,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
         Command::ExportMdp(args) => export::run(&args),
         Command::Bench(BenchCommand::Routes(args)) => bench::routes(&args),
+        Command::Bench(BenchCommand::Monitor(args)) => bench::monitor(&args),
     }
 }

@@ -10,6 +10,7 @@ mod examples;
 mod export_mdp;
 mod features;
 mod instructions;
+mod monitor;
 mod physics;
 mod pipeline;
 mod plan_output;

@@ -6,6 +6,7 @@
 
 pub mod cql;
 pub mod generator;
+pub mod monitor;
 pub mod pipeline;
 pub mod refusal;
 pub mod routes;

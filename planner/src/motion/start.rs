@@ -147,6 +147,25 @@ pub fn resolve(
     }
 }
 
+/// The state of a robot stopped mid-execution (the monitor replans from
+/// it): its joints as they are; the grid starts under the tool of `arm`
+/// (the arm that moved), or, without one, as in the table's first row.
+pub fn mid_execution(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    joints: Vec<f64>,
+    arm: Option<&str>,
+) -> StartState {
+    let gripper_px = match arm.and_then(|name| robot.arm(name).ok()) {
+        Some(arm) => {
+            let p = arm.fk(&arm.extract(&joints)).translation.vector;
+            clamp_into_image(scenario, scenario.base_to_pixel([p.x, p.y]))
+        }
+        None => seen_gripper(scenario, robot, &joints),
+    };
+    StartState { joints, gripper_px }
+}
+
 /// Home with every arm that has a park posture parked.
 pub fn parked_home(robot: &RobotModel) -> Vec<f64> {
     let mut q = robot.home().to_vec();
@@ -227,8 +246,16 @@ fn seen_gripper(scenario: &Scenario, robot: &RobotModel, joints: &[f64]) -> [f64
     );
     let centre = scenario.pixel_to_base([w / 2.0, h / 2.0]);
     let (_, tool) = nearest_tool(robot, joints, centre);
-    let [u, v] = scenario.base_to_pixel(tool);
-    // The last pixel's far edge is outside the image: stay half a pixel in.
+    clamp_into_image(scenario, scenario.base_to_pixel(tool))
+}
+
+/// The pixel clamped into the image; the last pixel's far edge is outside
+/// it, so stay half a pixel in.
+fn clamp_into_image(scenario: &Scenario, [u, v]: [f64; 2]) -> [f64; 2] {
+    let (w, h) = (
+        f64::from(scenario.camera.width),
+        f64::from(scenario.camera.height),
+    );
     [u.clamp(0.0, w - 0.5), v.clamp(0.0, h - 0.5)]
 }
 

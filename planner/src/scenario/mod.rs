@@ -1,13 +1,16 @@
 //! Scenarios: the data model of a scenario file, reading it (YAML or JSON)
-//! and validating it, plus the built-in default scenario.
+//! and validating it, plus the built-in default scenario and the
+//! observation timeline of an execution.
 
 pub mod bounds;
 mod load;
 mod model;
+mod observation;
 mod validate;
 
 pub use load::{Format, check, load, parse};
 pub use model::*;
+pub use observation::{MotionPhase, Observation, PlanPoint};
 pub use validate::validate;
 
 /// The embedded default scenario used when `afford plan` gets no file

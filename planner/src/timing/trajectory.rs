@@ -257,7 +257,7 @@ pub fn arm_limits(robot: &RobotModel, arm: &Arm) -> JointLimits {
 }
 
 /// Each hand as the sphere around its box (base frame, metres).
-fn hands(s: &Scenario) -> Vec<Hand> {
+pub fn hands(s: &Scenario) -> Vec<Hand> {
     let [mu, mv] = s.metres_per_pixel();
     s.hands
         .iter()
