@@ -84,7 +84,10 @@ impl SpeedProfile {
 /// Samples at `rate_hz`, from 0 to the duration inclusive. The first and
 /// last samples are exactly at rest on `ends` (the first and last
 /// waypoints): positions the waypoints, velocities and accelerations 0,
-/// times exactly 0 and the duration.
+/// times exactly 0 and the duration. The last step lasts between half a
+/// period and one and a half: a regular sample closer than half a period
+/// to the end is left out, since rates a controller or checker derives
+/// from positions over a microsecond step are rounding noise.
 pub fn sample(
     spline: &PiecewiseCubic,
     profile: &SpeedProfile,
@@ -94,7 +97,10 @@ pub fn sample(
     let duration = profile.duration();
     let dim = spline.dim();
     let period = 1.0 / rate_hz;
-    let count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
+    let mut count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
+    if count >= 2 && duration - (count - 1) as f64 * period < period / 2.0 {
+        count -= 1;
+    }
     let mut points = Vec::with_capacity(count + 1);
     let (mut q, mut dq, mut ddq) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
     for k in 0..=count {
@@ -290,6 +296,33 @@ mod tests {
             tool_path: None,
         };
         verify(trajectory, &limits, &checks)
+    }
+
+    #[test]
+    fn sample_last_step_never_shorter_than_half_a_period() {
+        let (_, path, profile) = timed();
+        let duration = profile.duration();
+        // A rate whose grid puts a regular sample 1e-4 periods before the end.
+        let periods = (duration * 100.0).floor() + 1e-4;
+        let rate = periods / duration;
+        let ends: (&[f64], &[f64]) = (&[0.0, 0.0], &[1.0, 7.5]);
+        let trajectory = sample(&path, &profile, rate, ends);
+        let times: Vec<f64> = trajectory
+            .points
+            .iter()
+            .map(|p| p.time_from_start)
+            .collect();
+        let last = times[times.len() - 1] - times[times.len() - 2];
+        assert!(
+            last >= 0.5 / rate - 1e-12,
+            "last step {last} s at {rate} Hz"
+        );
+        assert!(
+            last <= 1.5 / rate + 1e-12,
+            "last step {last} s at {rate} Hz"
+        );
+        assert_eq!(*times.last().unwrap(), duration);
+        assert!(times.windows(2).all(|w| w[1] > w[0]));
     }
 
     #[test]
