@@ -221,18 +221,25 @@ fn place_released_object_rests_inside_inner_walls() {
     assert_eq!(released_inside(&free, &p).len(), 1);
 }
 
-#[test]
-fn place_successive_pieces_do_not_overlap() {
-    let s = case("place-successive-pieces");
+/// Plans case `name`, which must plan every piece, and asserts that the
+/// `pieces` released pieces rest inside their goal without overlapping.
+fn every_piece_rests_apart(name: &str, pieces: usize) -> (Scenario, Plan) {
+    let s = case(name);
     let p = plan(&s, &PlanOptions::default()).expect("every piece plans");
     assert!(p.unsolved.is_empty(), "{:?}", p.unsolved);
     let placed = released_inside(&s, &p);
-    assert_eq!(placed.len(), 4);
+    assert_eq!(placed.len(), pieces);
     for (i, (_, a)) in placed.iter().enumerate() {
         for (_, b) in &placed[i + 1..] {
             assert!(!overlap(a, b), "{a:?} overlaps {b:?}");
         }
     }
+    (s, p)
+}
+
+#[test]
+fn place_successive_pieces_do_not_overlap() {
+    every_piece_rests_apart("place-successive-pieces", 4);
 }
 
 #[test]
@@ -274,15 +281,6 @@ fn grasp_turns_the_open_fingers_away_from_a_close_neighbour() {
 
 #[test]
 fn place_pieces_as_tall_as_the_wall_pack_by_their_own_footprint() {
-    let s = case("place-pieces-as-tall-as-the-wall");
-    let p = plan(&s, &PlanOptions::default()).expect("every piece plans");
-    assert!(p.unsolved.is_empty(), "{:?}", p.unsolved);
-    let placed = released_inside(&s, &p);
-    assert_eq!(placed.len(), 3);
-    for (i, (_, a)) in placed.iter().enumerate() {
-        for (_, b) in &placed[i + 1..] {
-            assert!(!overlap(a, b), "{a:?} overlaps {b:?}");
-        }
-    }
+    let (s, p) = every_piece_rests_apart("place-pieces-as-tall-as-the-wall", 3);
     assert_eq!(independent_check(&s, &p), Vec::<String>::new());
 }

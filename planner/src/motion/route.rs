@@ -285,11 +285,13 @@ fn cross(a: Point, b: Point, p: Point) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::grid::CellCode;
 
-    fn grid(rows: &[&str]) -> StateGrid {
+    /// A grid from rows of characters: `#` obstacle, `T` target, `G` goal,
+    /// anything else empty; the gripper starts in cell (0, 0).
+    pub(crate) fn grid(rows: &[&str]) -> StateGrid {
         let codes = rows
             .iter()
             .flat_map(|r| r.chars())

@@ -103,22 +103,8 @@ fn hermite(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::CellCode;
+    use crate::motion::route::tests::grid;
     use crate::motion::route::{segment_is_free, taut};
-
-    fn grid(rows: &[&str]) -> StateGrid {
-        let codes = rows
-            .iter()
-            .flat_map(|r| r.chars())
-            .map(|ch| match ch {
-                '#' => CellCode::Obstacle,
-                'T' => CellCode::Target,
-                'G' => CellCode::Goal,
-                _ => CellCode::Empty,
-            })
-            .collect();
-        StateGrid::from_codes(rows.len(), rows[0].len(), codes, (0, 0)).expect("valid test grid")
-    }
 
     fn all_free(g: &StateGrid, path: &[[f64; 2]]) -> bool {
         path.windows(2).all(|w| segment_is_free(g, w[0], w[1]))
