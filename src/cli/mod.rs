@@ -156,6 +156,21 @@ pub enum BenchCommand {
     Pipeline(BenchPipelineArgs),
     /// The safety campaign: random scenes for both robots, planned and every trajectory re-checked.
     Safety(BenchSafetyArgs),
+    /// Care-O-bot campaign scenes: each sub-goal planned alone, then the instruction chained.
+    Transits(BenchTransitsArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchTransitsArgs {
+    /// Number of Care-O-bot scenes (the odd scenes of the safety campaign's series).
+    #[arg(long, default_value_t = 200)]
+    pub scenes: usize,
+    /// Seed of the scene series (the safety campaign's).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -263,5 +278,6 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
+        Command::Bench(BenchCommand::Transits(args)) => bench::transits(&args),
     }
 }

@@ -1,7 +1,8 @@
 //! Benchmarks behind `afford bench`: seeded scene generation and the CQL
 //! experiment that reproduces the paper's Table 1 (CQL against QL, measured
 //! against the BFS oracle), the whole pipeline stage by stage, and the
-//! safety campaign (random scenes for both robots, planned and re-checked).
+//! safety campaign (random scenes for both robots, planned and re-checked),
+//! and the transit campaign (Care-O-bot sub-goals alone against chained).
 
 pub mod cql;
 pub mod generator;
@@ -9,6 +10,7 @@ pub mod pipeline;
 pub mod refusal;
 pub mod safety;
 pub mod scenes;
+pub mod transits;
 
 /// Median of a sample (mean of the two middle values); 0 when empty.
 pub fn median(values: &[f64]) -> f64 {

@@ -1,10 +1,13 @@
 //! From tool waypoints to a joint path: every waypoint becomes a top-down
-//! IK target (tool axis down, yaw from the lifting stage), and the robot's
-//! arm that reaches all of them at the lowest joint-space cost is chosen
-//! (the other arms park). The path starts from the robot's current
-//! configuration, so the move to the first waypoint is part of it.
+//! IK target (tool axis down, yaw from the lifting stage), and every arm of
+//! the robot that reaches all of them is a candidate, cheapest first by
+//! kinematics' arm-choice cost (joint-space distance from where the arm is
+//! to the first waypoint + path length + distance from the joint limits,
+//! [`afford_kinematics::path_cost`]). The pipeline takes the first candidate
+//! whose whole motion (transits included) is collision-free, so a robot with
+//! two arms chooses per sub-goal by reach, then cost, then clearance.
 
-use afford_kinematics::{ArmChoice, IkTarget, PathSettings, RobotModel, Vec3, choose_arm};
+use afford_kinematics::{ArmChoice, IkTarget, NoArmReaches, PathSettings, RobotModel, Vec3, path_cost};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -22,35 +25,72 @@ pub fn ik_targets(motion: &LiftedMotion) -> Vec<IkTarget> {
         .collect()
 }
 
-/// Chooses the arm and solves the joint path for `motion` from the whole-robot
-/// configuration `current`. `Err` is the reason in words ("goal unreachable
-/// for arm left: …").
-pub fn solve_motion(
+/// Every arm that reaches all of `motion`'s waypoints from the whole-robot
+/// configuration `current`, with its joint path, cheapest first (ties keep
+/// the robot's arm order). The arms are solved in the robot's order from one
+/// random stream seeded with `seed`. Each arm's IK starts from where the arm
+/// is, or with `from_home` from its home posture (another branch when the
+/// first one collides); the cost is from where the arm is either way. `Err` is the reason in words ("lift
+/// waypoint 3 unreachable for arm left: …", one part per arm).
+pub fn solve_motions(
     robot: &RobotModel,
     motion: &LiftedMotion,
     current: &[f64],
     settings: &PathSettings,
     seed: u64,
-) -> Result<ArmChoice, String> {
+    from_home: bool,
+) -> Result<Vec<ArmChoice>, String> {
+    if current.len() != robot.dof() {
+        return Err(format!(
+            "the robot configuration has {} values, {} has {} joints",
+            current.len(),
+            robot.name(),
+            robot.dof()
+        ));
+    }
+    settings.validate().map_err(|e| e.to_string())?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let targets = ik_targets(motion);
-    match choose_arm(robot, &targets, current, settings, &mut rng) {
-        Err(e) => Err(e.to_string()),
-        Ok(Ok(choice)) => Ok(choice),
-        Ok(Err(none)) => Err(none
-            .failures
-            .iter()
-            .map(|(arm, f)| {
-                let phase = motion
-                    .waypoints
-                    .get(f.index)
-                    .map_or("?".to_string(), |w| format!("{:?}", w.phase).to_lowercase());
-                format!(
-                    "{phase} waypoint {} unreachable for arm {arm}: {}",
-                    f.index, f.reason
-                )
-            })
-            .collect::<Vec<_>>()
-            .join("; ")),
+    let mut choices = Vec::new();
+    let mut failures = Vec::new();
+    for (arm_index, arm) in robot.arms().iter().enumerate() {
+        let now = arm.extract(current);
+        let ik_seed = match from_home {
+            true => &arm.home,
+            false => &now,
+        };
+        match arm.solve_path(&targets, Some(ik_seed), settings, &mut rng) {
+            Ok(path) => choices.push(ArmChoice {
+                arm: arm.name.clone(),
+                arm_index,
+                cost: path_cost(arm, &now, &path),
+                robot_path: Vec::new(),
+                path,
+            }),
+            Err(f) => failures.push((arm.name.clone(), f)),
+        }
     }
+    if choices.is_empty() {
+        return Err(unreachable(motion, &NoArmReaches { failures }));
+    }
+    choices.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    Ok(choices)
+}
+
+/// Each arm's first unreachable waypoint, with its phase.
+fn unreachable(motion: &LiftedMotion, none: &NoArmReaches) -> String {
+    none.failures
+        .iter()
+        .map(|(arm, f)| {
+            let phase = motion
+                .waypoints
+                .get(f.index)
+                .map_or("?".to_string(), |w| format!("{:?}", w.phase).to_lowercase());
+            format!(
+                "{phase} waypoint {} unreachable for arm {arm}: {}",
+                f.index, f.reason
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
