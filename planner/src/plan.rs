@@ -19,7 +19,7 @@ use crate::error::PlanError;
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
-use crate::motion::solve_motions;
+use crate::motion::{IK_STARTS, IkStart, solve_motions};
 use crate::oracle;
 use crate::scenario::Scenario;
 use crate::start::{self, FirstSubgoal, StartState};
@@ -535,21 +535,22 @@ impl Planner {
             return Ok(Attempt::Planned(Box::new(done)));
         };
         // The arms that reach, cheapest first: the first whose whole motion
-        // is free moves. When none is, the arms try once more with their IK
-        // started from their home posture (another branch). A collision of
+        // is free moves. When none is, the arms try again with their IK
+        // started from their home posture, then from random postures
+        // (other branches: an IK posture may fold into the body). A collision of
         // the cheapest goes back to the grid when no arm is free; transit
         // refusals are named with it.
         let mut first_hit: Option<Replan> = None;
         let mut no_transit = Vec::new();
         let mut free = None;
-        for from_home in [false, true] {
+        for start in IK_STARTS {
             let choices = timed(&mut timings.ik, || {
-                solve_motions(robot, &motion, &world.joints, &options.ik, seed, from_home)
+                solve_motions(robot, &motion, &world.joints, &options.ik, seed, start)
             });
-            let choices = match (choices, from_home) {
+            let choices = match (choices, start) {
                 (Ok(c), _) => c,
-                (Err(e), false) => return Err(Refused::motion(e)),
-                (Err(_), true) => break,
+                (Err(e), IkStart::Current) => return Err(Refused::motion(e)),
+                (Err(_), _) => continue,
             };
             for choice in choices {
                 let arm = &robot.arms()[choice.arm_index];
@@ -688,14 +689,15 @@ impl Planner {
         let start = arm.extract(&world.joints);
         let first = waypoints.first().cloned().unwrap_or_else(|| start.clone());
         let stream = 2 * choice.arm_index;
-        let mut lead = match self.transit(arm, &before, &start, &first, pass.seed, stream, timings)? {
-            Ok(path) => path,
-            Err(e) => {
-                return Ok(ArmMotionOutcome::NoTransit(format!(
-                    "on the way to the first waypoint: {e}"
-                )));
-            }
-        };
+        let mut lead =
+            match self.transit(arm, &before, &start, &first, pass.seed, stream, timings)? {
+                Ok(path) => path,
+                Err(e) => {
+                    return Ok(ArmMotionOutcome::NoTransit(format!(
+                        "on the way to the first waypoint: {e}"
+                    )));
+                }
+            };
         // The transit ends on the first waypoint, which the IK path starts with.
         lead.pop();
         // joint_path[lead.len() + 1 + k] is tool waypoint k.

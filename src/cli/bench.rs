@@ -17,8 +17,8 @@ use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
-    BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSafetyArgs, BenchSeedArgs, BenchTransitsArgs,
-    ExitKind, Failure,
+    BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSafetyArgs, BenchSeedArgs,
+    BenchTransitsArgs, ExitKind, Failure,
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
@@ -158,7 +158,10 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
 
 pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
     if args.scenes == 0 {
-        return Err(Failure::new(ExitKind::BadInput, "--scenes must be at least 1"));
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenes must be at least 1",
+        ));
     }
     let bar = progress_bar(args.scenes as u64, "scenes");
     // Scenes in parallel, collected in order: the report does not depend
@@ -172,7 +175,10 @@ pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
         })
         .collect();
     bar.finish_and_clear();
-    print_report(&transits::TransitBenchReport::of(args.seed, &outcomes), args.json)
+    print_report(
+        &transits::TransitBenchReport::of(args.seed, &outcomes),
+        args.json,
+    )
 }
 
 /// Writes scenes `0..count` of the series `seed` as YAML scenario files.

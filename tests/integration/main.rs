@@ -10,4 +10,5 @@ mod instructions;
 mod pipeline;
 mod safety;
 mod scenario_errors;
+mod transits;
 mod util;

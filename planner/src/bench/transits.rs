@@ -63,7 +63,11 @@ pub fn run_scene(seed: u64, index: usize) -> SceneTransits {
         .iter()
         .filter(|goal| {
             planner
-                .plan_goals(&scenario, std::slice::from_ref(goal), StageTimings::default())
+                .plan_goals(
+                    &scenario,
+                    std::slice::from_ref(goal),
+                    StageTimings::default(),
+                )
                 .is_ok_and(|p| p.unsolved.is_empty())
         })
         .count();
@@ -154,7 +158,11 @@ mod tests {
         };
         let report = TransitBenchReport::of(
             1,
-            &[outcome(1, 2, 2, 2), outcome(3, 3, 3, 2), outcome(5, 2, 1, 1)],
+            &[
+                outcome(1, 2, 2, 2),
+                outcome(3, 3, 3, 2),
+                outcome(5, 2, 1, 1),
+            ],
         );
         assert_eq!(report.alone_scenes, 2);
         assert_eq!(report.chained_scenes, 1);

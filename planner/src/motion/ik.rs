@@ -7,7 +7,10 @@
 //! whose whole motion (transits included) is collision-free, so a robot with
 //! two arms chooses per sub-goal by reach, then cost, then clearance.
 
-use afford_kinematics::{ArmChoice, IkTarget, NoArmReaches, PathSettings, RobotModel, Vec3, path_cost};
+use afford_kinematics::{
+    ArmChoice, IkTarget, NoArmReaches, PathSettings, RobotModel, Vec3, path_cost,
+    random_configuration,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -25,12 +28,31 @@ pub fn ik_targets(motion: &LiftedMotion) -> Vec<IkTarget> {
         .collect()
 }
 
+/// Where the path IK of [`solve_motions`] starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IkStart {
+    /// Where the arm is.
+    Current,
+    /// The arm's home posture (the description's comfortable posture).
+    Home,
+    /// A random configuration within the limits, the `k`-th stream.
+    Random(u64),
+}
+
+/// The IK starts the pipeline tries in turn while no arm's motion is free.
+pub const IK_STARTS: [IkStart; 4] = [
+    IkStart::Current,
+    IkStart::Home,
+    IkStart::Random(0),
+    IkStart::Random(1),
+];
+
 /// Every arm that reaches all of `motion`'s waypoints from the whole-robot
 /// configuration `current`, with its joint path, cheapest first (ties keep
 /// the robot's arm order). The arms are solved in the robot's order from one
-/// random stream seeded with `seed`. Each arm's IK starts from where the arm
-/// is, or with `from_home` from its home posture (another branch when the
-/// first one collides); the cost is from where the arm is either way. `Err` is the reason in words ("lift
+/// random stream seeded with `seed` (and the start's index). Each arm's IK
+/// starts as `start` says (another branch when the first one collides); the
+/// cost is from where the arm is either way. `Err` is the reason in words ("lift
 /// waypoint 3 unreachable for arm left: …", one part per arm).
 pub fn solve_motions(
     robot: &RobotModel,
@@ -38,7 +60,7 @@ pub fn solve_motions(
     current: &[f64],
     settings: &PathSettings,
     seed: u64,
-    from_home: bool,
+    start: IkStart,
 ) -> Result<Vec<ArmChoice>, String> {
     if current.len() != robot.dof() {
         return Err(format!(
@@ -49,17 +71,22 @@ pub fn solve_motions(
         ));
     }
     settings.validate().map_err(|e| e.to_string())?;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let stream = match start {
+        IkStart::Random(k) => k.wrapping_add(1),
+        _ => 0,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15));
     let targets = ik_targets(motion);
     let mut choices = Vec::new();
     let mut failures = Vec::new();
     for (arm_index, arm) in robot.arms().iter().enumerate() {
         let now = arm.extract(current);
-        let ik_seed = match from_home {
-            true => &arm.home,
-            false => &now,
+        let ik_seed = match start {
+            IkStart::Current => now.clone(),
+            IkStart::Home => arm.home.clone(),
+            IkStart::Random(_) => random_configuration(arm, &mut rng),
         };
-        match arm.solve_path(&targets, Some(ik_seed), settings, &mut rng) {
+        match arm.solve_path(&targets, Some(&ik_seed), settings, &mut rng) {
             Ok(path) => choices.push(ArmChoice {
                 arm: arm.name.clone(),
                 arm_index,

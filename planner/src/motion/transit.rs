@@ -127,7 +127,12 @@ pub fn plan_transit(
             iterations: settings.max_iterations,
             extend_length: settings.extend_length,
         })?;
-    shortcut(&mut vertices, &mut free, settings.shortcut_attempts, &mut rng)?;
+    shortcut(
+        &mut vertices,
+        &mut free,
+        settings.shortcut_attempts,
+        &mut rng,
+    )?;
     let path = vertices
         .windows(2)
         .flat_map(|w| joint_steps(&w[0], &w[1], settings.max_step))
@@ -213,7 +218,10 @@ fn connect(
         let (last, next) = (&a[a.len() - 1], &b[0]);
         if last == next || free(last, next)? {
             let skip = usize::from(last == next);
-            return Ok(Some((a.into_iter().chain(b.into_iter().skip(skip)).collect(), used)));
+            return Ok(Some((
+                a.into_iter().chain(b.into_iter().skip(skip)).collect(),
+                used,
+            )));
         }
     }
     Ok(None)
@@ -349,13 +357,15 @@ fn sampling_bounds(arm: &Arm, from: &[f64], to: &[f64]) -> Vec<(f64, f64)> {
         .iter()
         .zip(&arm.upper)
         .zip(from.iter().zip(to))
-        .map(|((&lo, &hi), (&a, &b))| match lo.is_finite() && hi.is_finite() {
-            true => (lo, hi),
-            false => {
-                let mid = 0.5 * (a + b);
-                (mid - std::f64::consts::PI, mid + std::f64::consts::PI)
-            }
-        })
+        .map(
+            |((&lo, &hi), (&a, &b))| match lo.is_finite() && hi.is_finite() {
+                true => (lo, hi),
+                false => {
+                    let mid = 0.5 * (a + b);
+                    (mid - std::f64::consts::PI, mid + std::f64::consts::PI)
+                }
+            },
+        )
         .collect()
 }
 
@@ -399,23 +409,116 @@ mod tests {
         }))
     }
 
-    #[test]
-    fn transit_goes_around_a_joint_space_wall() {
+    fn iiwa_ends() -> (RobotModel, Vec<f64>, Vec<f64>) {
         let robot = RobotModel::builtin("kuka_iiwa14").expect("robot");
-        let arm = &robot.arms()[0];
-        let mut from = vec![0.0; arm.dof()];
+        let mut from = vec![0.0; robot.arms()[0].dof()];
         let mut to = from.clone();
         from[0] = -1.0;
         to[0] = 1.0;
-        let settings = TransitSettings::default();
-        let transit = plan_transit(arm, &from, &to, &mut sampled_edge, &settings, 7).expect("path");
-        assert!(matches!(transit.kind, TransitKind::Planned { .. }));
-        let mut prev = from.clone();
+        (robot, from, to)
+    }
+
+    /// Every step of the output is free and within `max_step`, from `from` to `to`.
+    fn assert_free_steps(transit: &Transit, from: &[f64], to: &[f64], max_step: f64) {
+        let mut prev = from.to_vec();
         for q in &transit.path {
-            assert!(sampled_edge(&prev, q).expect("check"), "edge {prev:?} -> {q:?}");
-            assert!(prev.iter().zip(q).all(|(a, b)| (a - b).abs() <= settings.max_step + 1e-12));
+            assert!(
+                sampled_edge(&prev, q).expect("check"),
+                "edge {prev:?} -> {q:?}"
+            );
+            assert!(
+                prev.iter()
+                    .zip(q)
+                    .all(|(a, b)| (a - b).abs() <= max_step + 1e-12)
+            );
             prev = q.clone();
         }
         assert_eq!(prev, to);
+    }
+
+    #[test]
+    fn transit_goes_around_when_the_straight_move_collides() {
+        let (robot, from, to) = iiwa_ends();
+        let settings = TransitSettings::default();
+        let arm = &robot.arms()[0];
+        let transit = plan_transit(arm, &from, &to, &mut sampled_edge, &settings, 7).expect("path");
+        assert!(matches!(transit.kind, TransitKind::Planned { .. }));
+        assert_free_steps(&transit, &from, &to, settings.max_step);
+        let again = plan_transit(arm, &from, &to, &mut sampled_edge, &settings, 7).expect("path");
+        assert_eq!(transit, again, "same seed, same transit");
+    }
+
+    #[test]
+    fn transit_checks_every_edge_it_returns_across_seeds() {
+        // rrt 0.7 joins its trees by an edge it never checks: the mirror's
+        // path must be free on every seed, not only where the trees meet
+        // exactly.
+        let (robot, from, to) = iiwa_ends();
+        let settings = TransitSettings {
+            shortcut_attempts: 0,
+            ..TransitSettings::default()
+        };
+        for seed in 0..20 {
+            let transit = plan_transit(
+                &robot.arms()[0],
+                &from,
+                &to,
+                &mut sampled_edge,
+                &settings,
+                seed,
+            )
+            .expect("path");
+            assert_free_steps(&transit, &from, &to, settings.max_step);
+        }
+    }
+
+    #[test]
+    fn transit_keeps_the_straight_move_when_free() {
+        let (robot, from, mut to) = iiwa_ends();
+        to[0] = -0.5;
+        let settings = TransitSettings::default();
+        let transit = plan_transit(
+            &robot.arms()[0],
+            &from,
+            &to,
+            &mut sampled_edge,
+            &settings,
+            1,
+        )
+        .expect("path");
+        assert_eq!(transit.kind, TransitKind::Straight);
+        assert_eq!(transit.path, joint_steps(&from, &to, settings.max_step));
+    }
+
+    #[test]
+    fn transit_refuses_without_a_way_within_its_budget() {
+        let (robot, from, to) = iiwa_ends();
+        let settings = TransitSettings {
+            max_iterations: 50,
+            ..TransitSettings::default()
+        };
+        // A wall no joint can pass: joint 0 never crosses ±0.4 rad.
+        let mut wall = |a: &[f64], b: &[f64]| {
+            Ok::<bool, String>(a[0].abs() >= 0.4 && b[0].abs() >= 0.4 && a[0] * b[0] > 0.0)
+        };
+        let refused = plan_transit(&robot.arms()[0], &from, &to, &mut wall, &settings, 1);
+        assert_eq!(
+            refused,
+            Err(TransitError::NotFound {
+                iterations: 50,
+                extend_length: settings.extend_length
+            })
+        );
+        let mut start_blocked =
+            |a: &[f64], b: &[f64]| Ok::<bool, String>(!blocked(a) && !blocked(b) && a[0] > -0.9);
+        let refused = plan_transit(
+            &robot.arms()[0],
+            &from,
+            &to,
+            &mut start_blocked,
+            &settings,
+            1,
+        );
+        assert_eq!(refused, Err(TransitError::StartCollides));
     }
 }
