@@ -326,7 +326,7 @@ impl Planner {
         let mut snapshots: Vec<Option<Snapshot>> = vec![None; goals.len()];
         // After a rewind to sub-goal j: the outcomes and the world as they
         // were, restored when j does not plan with its arm parking.
-        let mut fallback: Option<(usize, Vec<Result<SubgoalPlan, String>>, Snapshot)> = None;
+        let mut fallback: Option<Rewound> = None;
         while outcomes.len() < goals.len() {
             let k = outcomes.len();
             let goal = &goals[k];
@@ -939,6 +939,9 @@ impl Replan {
         }
     }
 }
+
+/// The sub-goal a chain went back to, and the outcomes and world before.
+type Rewound = (usize, Vec<Result<SubgoalPlan, String>>, Snapshot);
 
 /// The part of the [`World`] a sub-goal changes, to plan it again.
 #[derive(Clone)]

@@ -191,6 +191,9 @@ struct Mirror {
     error: Option<TransitError>,
 }
 
+/// Arm configurations in order: a path through joint space.
+type Configurations = Vec<Vec<f64>>;
+
 /// The edge test with the planner's error type.
 type Free<'a> = dyn FnMut(&[f64], &[f64]) -> Result<bool, TransitError> + 'a;
 
@@ -206,7 +209,7 @@ fn connect(
     free: &mut Free,
     settings: &TransitSettings,
     rng: &mut ChaCha8Rng,
-) -> Result<Option<(Vec<Vec<f64>>, usize)>, TransitError> {
+) -> Result<Option<(Configurations, usize)>, TransitError> {
     let mut used = 0;
     while used < settings.max_iterations {
         let budget = settings.max_iterations - used;
@@ -238,7 +241,7 @@ fn search(
     settings: &TransitSettings,
     budget: usize,
     rng: &mut ChaCha8Rng,
-) -> Result<(Option<[Vec<Vec<f64>>; 2]>, usize), TransitError> {
+) -> Result<(Option<[Configurations; 2]>, usize), TransitError> {
     let bounds = sampling_bounds(arm, from, to);
     let mirror = RefCell::new(Mirror {
         trees: [vec![from.to_vec()], vec![to.to_vec()]],
