@@ -2,15 +2,21 @@
 //!
 //! Left, the **top view** in camera pixels (v grows downwards): the image
 //! border, the first sub-goal's state-grid lattice, every object filled in
-//! its colour (sensitive ones with a thick dark-red outline and a `!`), the
+//! its colour and drawn in its shape (circle, cylinder, hexagon, triangle,
+//! star as a pentagon, others as their box; sensitive ones with a thick
+//! dark-red outline and a `!`), the pointing pixel as an orange crosshair, the
 //! goal boxes as brown outlines, hands in orange, and each element's safety
 //! perimeter as a dashed rectangle grown by its margin (metres converted to
 //! pixels with the camera calibration). Over the scene, per sub-goal in its
 //! own colour: the discrete cell path (thin line through the visited cell
 //! centres, a dot per cell), the smoothed tool path (the tool waypoints'
 //! x, y mapped back to pixels; thick, translucent), a ring at the start and a
-//! cross with the sub-goal's number at the drop. The legend under the view
-//! names each sub-goal's object, goal and arm, and lists unsolved sub-goals.
+//! cross with the sub-goal's number where the object is released (its own
+//! spot in the box, so pieces in one box do not pile up). Each sub-goal that
+//! could not be planned marks its object with a red ✗ and its letter. The
+//! legend under the view names each sub-goal's object, goal and arm, and
+//! lists the unsolved ones by letter with their reasons. A plan where
+//! nothing could be planned is drawn too (scene, failures, legend).
 //!
 //! Right (only with a robot model and at least one timed trajectory), one
 //! row per joint: position against time with the joint's position limits,
@@ -200,7 +206,75 @@ impl<'s> TopView<'s> {
         for (k, sub) in plan.subgoals.iter().enumerate() {
             self.route(root, k, sub)?;
         }
+        self.failures(root, plan)?;
+        if let Some(p) = s.pointing {
+            self.pointing(root, p)?;
+        }
         root.draw(&Rectangle::new(self.corners(&image), BLACK.stroke_width(1)))?;
+        Ok(())
+    }
+
+    /// A red ✗ and the failure's letter (a, b, …, as in the legend) over
+    /// each object whose sub-goal could not be planned.
+    fn failures(&self, root: &Area, plan: &Plan) -> Res {
+        for (k, u) in plan.unsolved.iter().enumerate() {
+            let Some(i) = self.scenario.object_index(&u.object) else {
+                continue;
+            };
+            let b = self.scenario.objects[i].bbox;
+            let centre = self.at(b.centre());
+            root.draw(&Cross::new(centre, 9, SENSITIVE.stroke_width(4)))?;
+            let style = text_style(14.0, SENSITIVE).pos(Pos::new(HPos::Left, VPos::Bottom));
+            root.draw_text(&failure_letter(k), &style, (centre.0 + 10, centre.1 - 8))?;
+        }
+        Ok(())
+    }
+
+    /// The pixel the person points at: an orange crosshair and a label.
+    fn pointing(&self, root: &Area, p: [f64; 2]) -> Res {
+        let c = self.at(p);
+        let style = HAND.stroke_width(2);
+        root.draw(&Circle::new(c, 9, style))?;
+        root.draw(&PathElement::new([(c.0 - 14, c.1), (c.0 + 14, c.1)], style))?;
+        root.draw(&PathElement::new([(c.0, c.1 - 14), (c.0, c.1 + 14)], style))?;
+        let label = text_style(11.0, HAND).pos(Pos::new(HPos::Left, VPos::Top));
+        root.draw_text("pointing", &label, (c.0 + 10, c.1 + 4))?;
+        Ok(())
+    }
+
+    /// The outline of an object's shape inside its box, canvas points.
+    fn shape(&self, shape: &str, b: &PixelBox) -> Shape {
+        let [cu, cv] = b.centre();
+        let (ru, rv) = (b.w / 2.0, b.l / 2.0);
+        let polygon = |n: usize, turn: f64| {
+            let pts = (0..n).map(|i| {
+                let a = turn + std::f64::consts::TAU * i as f64 / n as f64;
+                self.at([cu + ru * a.cos(), cv + rv * a.sin()])
+            });
+            Shape::Polygon(pts.collect())
+        };
+        match shape.to_ascii_lowercase().as_str() {
+            "circle" | "cylinder" | "disc" | "ball" => {
+                let r = (ru.min(rv) * self.scale).round() as i32;
+                Shape::Circle(self.at([cu, cv]), r.max(1))
+            }
+            "hexagon" => polygon(6, 0.0),
+            "triangle" => polygon(3, -std::f64::consts::FRAC_PI_2),
+            "star" | "pentagon" => polygon(5, -std::f64::consts::FRAC_PI_2),
+            _ => Shape::Box(self.corners(b)),
+        }
+    }
+
+    fn draw_shape(&self, root: &Area, shape: &Shape, style: ShapeStyle) -> Res {
+        match shape {
+            Shape::Circle(c, r) => root.draw(&Circle::new(*c, *r, style))?,
+            Shape::Polygon(pts) if style.filled => root.draw(&Polygon::new(pts.clone(), style))?,
+            Shape::Polygon(pts) => {
+                let closed: Vec<_> = pts.iter().chain(pts.first()).copied().collect();
+                root.draw(&PathElement::new(closed, style))?
+            }
+            Shape::Box(corners) => root.draw(&Rectangle::new(*corners, style))?,
+        }
         Ok(())
     }
 
@@ -282,16 +356,14 @@ impl<'s> TopView<'s> {
         for o in &s.objects {
             let sensitive = s.is_sensitive(o);
             let fill = object_colour(&o.color);
-            root.draw(&Rectangle::new(self.corners(&o.bbox), fill.filled()))?;
+            let shape = self.shape(&o.shape, &o.bbox);
+            self.draw_shape(root, &shape, fill.filled())?;
             let (edge, width) = if sensitive {
                 (SENSITIVE, 3)
             } else {
                 (BLACK, 1)
             };
-            root.draw(&Rectangle::new(
-                self.corners(&o.bbox),
-                edge.stroke_width(width),
-            ))?;
+            self.draw_shape(root, &shape, edge.stroke_width(width))?;
             let (margin, dash) = match sensitive {
                 true => (s.safety.sensitive_margin, SENSITIVE),
                 false => (s.safety.obstacle_margin, RGBColor(110, 110, 110)),
@@ -340,14 +412,32 @@ impl<'s> TopView<'s> {
         for &c in &cells {
             root.draw(&Circle::new(c, 3, colour.filled()))?;
         }
-        if let (Some(&start), Some(&drop)) = (cells.first(), cells.last()) {
+        if let Some(&start) = cells.first() {
+            // The release spot, not the drop cell's centre: pieces put in
+            // one box each get their own marker.
+            let drop = self.at(sub.release_px);
             root.draw(&Circle::new(start, 8, colour.stroke_width(2)))?;
             root.draw(&Cross::new(drop, 7, colour.stroke_width(3)))?;
             let number = text_style(14.0, colour).pos(Pos::new(HPos::Left, VPos::Bottom));
-            let x = drop.0 + 8 + 11 * k as i32;
-            root.draw_text(&format!("{}", k + 1), &number, (x, drop.1 - 6))?;
+            root.draw_text(&format!("{}", k + 1), &number, (drop.0 + 8, drop.1 - 6))?;
         }
         Ok(())
+    }
+}
+
+/// An object's outline on the canvas.
+enum Shape {
+    Circle((i32, i32), i32),
+    Polygon(Vec<(i32, i32)>),
+    Box([(i32, i32); 2]),
+}
+
+/// The letter of unsolved sub-goal `k` (0-based): a, b, …, z, then a2, b2, ….
+fn failure_letter(k: usize) -> String {
+    let letter = char::from(b'a' + (k % 26) as u8);
+    match k / 26 {
+        0 => letter.to_string(),
+        n => format!("{letter}{}", n + 1),
     }
 }
 
@@ -405,8 +495,16 @@ fn legend(root: &Area, scenario: &Scenario, plan: &Plan, top: i32) -> Res {
         )?;
         y += LINE_H;
     }
-    for u in &plan.unsolved {
-        let line = clip(&format!("✗ {} → {}: {}", u.object, u.goal, u.reason), 95);
+    for (k, u) in plan.unsolved.iter().enumerate() {
+        let line = format!(
+            "✗ {}. {} → {}: {} [{}]",
+            failure_letter(k),
+            u.object,
+            u.goal,
+            u.reason,
+            u.refusal.kind()
+        );
+        let line = clip(&line, 110);
         root.draw_text(&line, &text_style(13.0, SENSITIVE), (MARGIN, y))?;
         y += LINE_H;
     }

@@ -43,6 +43,20 @@ struct World {
     pieces: Vec<Piece>,
 }
 
+/// Re-checks a plan the planner returned, in memory (no JSON round trip):
+/// `check_plan(scenario, robot, &PlanFile::from(plan))`, with the robot
+/// `scenario.robot.model` loaded from `base_dir` (the folder relative
+/// robot paths start from, [`afford_planner::PlanOptions::base_dir`]).
+/// `Err` when the robot cannot be loaded; an empty report means it passed.
+pub fn check(
+    scenario: &Scenario,
+    plan: &afford_planner::Plan,
+    base_dir: &std::path::Path,
+) -> Result<Report, afford_kinematics::KinematicsError> {
+    let robot = RobotModel::load(&scenario.robot.model, base_dir)?;
+    Ok(check_plan(scenario, &robot, &PlanFile::from(plan)))
+}
+
 /// Checks `plan` against `scenario` for `robot`. Never panics on any input;
 /// an empty report means the plan passed.
 pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> Report {
@@ -221,8 +235,8 @@ fn subgoal(
             .map(|&j| &r.model.joints()[j])
             .collect(),
     };
-    for (class, message) in rates::check(&joints, points, &windows) {
-        report.push(class, Some(k), message);
+    for (class, message, data) in rates::check(&joints, points, &windows) {
+        report.push_with(class, Some(k), message, data);
     }
     let events = match events {
         Ok(e) => e,
@@ -390,7 +404,7 @@ impl Phases<'_> {
         let mut findings = Findings::new();
         phases.iter().for_each(|p| p.run(&mut findings));
         for (key, f) in &findings {
-            report.push(key.0, Some(k), dense::describe(key, f));
+            report.push_with(key.0, Some(k), dense::describe(key, f), dense::data(key, f));
         }
         Ok(())
     }

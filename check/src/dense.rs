@@ -17,7 +17,7 @@ use parry3d::math::Pose as PPose;
 
 use crate::bodies::Body;
 use crate::chain::{Kinematics, to_parry};
-use crate::report::ViolationClass;
+use crate::report::{ViolationClass, ViolationData};
 use crate::scene::{Obstacle, Role, signed_distance};
 
 /// Largest motion of any body point between two checked configurations, m.
@@ -222,6 +222,24 @@ impl Phase<'_> {
 }
 
 /// One line per finding: what, how deep, where first and where worst.
+/// The typed data of a finding (see [`describe`] for its message).
+pub(crate) fn data(
+    (_, body, other): &(ViolationClass, String, String),
+    f: &Finding,
+) -> ViolationData {
+    let (d, t, sample) = f.worst;
+    ViolationData {
+        body: Some(body.clone()),
+        other: Some(other.clone()),
+        time_s: Some(t),
+        sample: Some(sample),
+        distance_m: Some(d),
+        margin_m: Some(f.margin),
+        cases: Some(f.count),
+        ..ViolationData::default()
+    }
+}
+
 pub(crate) fn describe(
     (class, body, other): &(ViolationClass, String, String),
     f: &Finding,

@@ -65,7 +65,7 @@ pub(crate) fn check<'a>(
         .map_err(|e| format(format!("arm: {e}")))?;
     if sub.joint_names != arm.joint_names {
         return Err(format(format!(
-            "joint_names {:?} are not arm {}'s joints {:?}",
+            "joint_names {:?} are not the joints of the arm '{}' {:?}",
             sub.joint_names, arm.name, arm.joint_names
         )));
     }
@@ -113,7 +113,7 @@ fn sample(i: usize, p: &Sample, arm: &Arm) -> Result<(), String> {
     ] {
         if values.len() != n {
             return Err(format!(
-                "points[{i}].{field} holds {} values, arm {} has {n} joints",
+                "points[{i}].{field} holds {} values, the arm '{}' has {n} joints",
                 values.len(),
                 arm.name
             ));

@@ -6,7 +6,10 @@
 //! afford-planner only for data types and scenario loading and
 //! afford-kinematics only for the robot description; forward kinematics is
 //! k's (from the URDF via urdf-rs 0.9), collisions are parry3d's on a scene
-//! rebuilt here from the scenario's pixel boxes.
+//! rebuilt here from the scenario's pixel boxes. The physical replay
+//! ([`physics`], `--physics`) is a different test, not a second opinion on
+//! the planner's geometry: it runs afford-collision's rapier3d replay on
+//! this crate's reading of the scene.
 //!
 //! | what | module | class |
 //! |---|---|---|
@@ -17,6 +20,7 @@
 //! | tool speed near hands (ISO/TS 15066) | `tool_speed` | `tool_speed` |
 //! | dense collision check (1 mm steps) | `dense`, `bodies`, `scene`, `chain` | `penetration`, `margin`, `self_collision`, `target_touched` |
 //! | grasp width, release | `placement` | `gripper_opening`, `placement` |
+//! | physical replay (rapier3d, `--physics`) | [`physics`] | `physics` |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -25,6 +29,16 @@
 //! let report = afford_check::check_plan(&scenario, &robot, &plan);
 //! assert_eq!(report.violations[0].class, afford_check::ViolationClass::Format);
 //! ```
+//!
+//! A plan straight from the planner, in memory:
+//!
+//! ```
+//! let scenario = afford_planner::scenario::default_scenario().unwrap();
+//! let options = afford_planner::PlanOptions::default();
+//! let plan = afford_planner::plan(&scenario, &options).unwrap();
+//! let report = afford_check::check(&scenario, &plan, &options.base_dir).unwrap();
+//! assert!(report.passed(), "{:?}", report.violations);
+//! ```
 
 mod bodies;
 mod chain;
@@ -32,6 +46,7 @@ mod check;
 mod dense;
 mod file;
 mod format;
+pub mod physics;
 mod placement;
 mod rates;
 mod report;
@@ -39,7 +54,7 @@ mod scene;
 mod start;
 mod tool_speed;
 
-pub use check::check_plan;
+pub use check::{check, check_plan};
 pub use dense::{CONTACT_TOLERANCE, MAX_CONFIGURATIONS, STEP};
 pub use file::{
     MAX_GRIPPER_EVENTS, MAX_JOINTS, MAX_PLAN_BYTES, MAX_SAMPLES, MAX_SUBGOALS, PlanFile,
@@ -48,7 +63,7 @@ pub use file::{
 pub use format::{EVENT_TIME_TOLERANCE, MAX_ABS_POSITION, MAX_ABS_RATE, MAX_TIME};
 pub use placement::PLACEMENT_TOLERANCE;
 pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
-pub use report::{Report, Violation, ViolationClass};
+pub use report::{Report, Violation, ViolationClass, ViolationData};
 pub use scene::{GOAL_WALL, TABLE_THICKNESS};
 pub use start::{START_TILT, START_TOLERANCE};
 pub use tool_speed::TOOL_SPEED_TOLERANCE;

@@ -25,7 +25,7 @@ use std::collections::BTreeMap;
 use afford_kinematics::{Joint, JointKind};
 
 use crate::file::Sample;
-use crate::report::ViolationClass;
+use crate::report::{ViolationClass, ViolationData};
 
 /// Positions may pass a limit by this much (rad or m): rounding only.
 pub const POSITION_TOLERANCE: f64 = 1e-9;
@@ -123,7 +123,7 @@ pub(crate) fn check(
     arm: &ArmJoints,
     points: &[Sample],
     events: &[(f64, f64)],
-) -> Vec<(ViolationClass, String)> {
+) -> Vec<(ViolationClass, String, ViolationData)> {
     let mut tally = Tally::default();
     positions(arm, points, &mut tally);
     for (j, joint) in arm.joints.iter().enumerate() {
@@ -133,12 +133,20 @@ pub(crate) fn check(
     tally
         .0
         .into_iter()
-        .map(|((check, _), w)| {
+        .map(|((check, j), w)| {
             let more = match w.count {
                 1 => String::new(),
                 n => format!(" ({n} cases in all)"),
             };
-            (check.class(), format!("{}{more}", w.message))
+            let data = ViolationData {
+                // RestEvent is keyed by the gripper event, not a joint.
+                joint: (check != Check::RestEvent)
+                    .then(|| arm.joints.get(j).map(|joint| joint.name.clone()))
+                    .flatten(),
+                cases: Some(w.count),
+                ..ViolationData::default()
+            };
+            (check.class(), format!("{}{more}", w.message), data)
         })
         .collect()
 }
@@ -324,6 +332,7 @@ mod tests {
             upper: 2.0 * std::f64::consts::PI,
             velocity: 1.0,
             acceleration: 2.0,
+            jerk: 100.0,
             effort: 1.0,
         }
     }
@@ -413,7 +422,7 @@ mod tests {
         assert!(
             found
                 .iter()
-                .any(|(c, m)| *c == ViolationClass::Acceleration && m.contains("recomputed")),
+                .any(|(c, m, _)| *c == ViolationClass::Acceleration && m.contains("recomputed")),
             "{found:?}"
         );
     }

@@ -41,11 +41,14 @@ pub enum ViolationClass {
     GripperOpening,
     /// The file is not a well-formed plan for this scenario and robot.
     Format,
+    /// The physical replay (`--physics`): a piece left outside its goal,
+    /// another piece moved, a link touching a hand, the table or a piece.
+    Physics,
 }
 
 impl ViolationClass {
     /// Every class, in declaration order.
-    pub const ALL: [ViolationClass; 16] = [
+    pub const ALL: [ViolationClass; 17] = [
         Self::Penetration,
         Self::Margin,
         Self::SelfCollision,
@@ -62,6 +65,7 @@ impl ViolationClass {
         Self::Placement,
         Self::GripperOpening,
         Self::Format,
+        Self::Physics,
     ];
 
     /// The snake_case name.
@@ -83,6 +87,7 @@ impl ViolationClass {
             Self::Placement => "placement",
             Self::GripperOpening => "gripper_opening",
             Self::Format => "format",
+            Self::Physics => "physics",
         }
     }
 }
@@ -93,13 +98,46 @@ impl std::fmt::Display for ViolationClass {
     }
 }
 
-/// One problem found.
+/// One problem found. JSON: `{"class", "subgoal", "message"}` and, where
+/// the class knows them, the fields of [`ViolationData`] beside them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Violation {
     pub class: ViolationClass,
     /// Index of the sub-goal in the plan; `None` for the plan as a whole.
     pub subgoal: Option<usize>,
     pub message: String,
+    #[serde(flatten)]
+    pub data: ViolationData,
+}
+
+/// What a program needs to act on a violation without parsing its message:
+/// where (seconds into the sub-goal's trajectory and the sample), what (the
+/// joint, or the robot body and what it came near) and by how much. A field
+/// is absent (`None`, left out of JSON) when the class does not know it.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ViolationData {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint: Option<String>,
+    /// Robot body: link name (`link#k` for its k-th collider) or `held:<object>`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body: Option<String>,
+    /// The obstacle, piece or other robot body.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub other: Option<String>,
+    /// Seconds from the start of the sub-goal's trajectory, at the worst case.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_s: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample: Option<usize>,
+    /// Signed distance between the shapes at the worst case, m (< 0: inside).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distance_m: Option<f64>,
+    /// The distance that had to be kept, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub margin_m: Option<f64>,
+    /// How many cases the one violation stands for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cases: Option<usize>,
 }
 
 impl std::fmt::Display for Violation {
@@ -129,10 +167,21 @@ impl Report {
     }
 
     pub(crate) fn push(&mut self, class: ViolationClass, subgoal: Option<usize>, message: String) {
+        self.push_with(class, subgoal, message, ViolationData::default());
+    }
+
+    pub(crate) fn push_with(
+        &mut self,
+        class: ViolationClass,
+        subgoal: Option<usize>,
+        message: String,
+        data: ViolationData,
+    ) {
         self.violations.push(Violation {
             class,
             subgoal,
             message,
+            data,
         });
     }
 }

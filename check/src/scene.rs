@@ -192,8 +192,8 @@ pub(crate) fn hand_boxes(s: &Scenario) -> Vec<(String, Iso, [f64; 3])> {
         .collect()
 }
 
-/// The table slab under the image's footprint.
-fn table(s: &Scenario) -> Obstacle {
+/// The image's footprint on the table: the (x, y) box around its corners.
+pub(crate) fn table_extent(s: &Scenario) -> ([f64; 2], [f64; 2]) {
     let (w, h) = (s.camera.width as f64, s.camera.height as f64);
     let corners = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]].map(|p| s.pixel_to_base(p));
     let lo = [0, 1].map(|k| corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
@@ -203,6 +203,12 @@ fn table(s: &Scenario) -> Obstacle {
             .map(|c| c[k])
             .fold(f64::NEG_INFINITY, f64::max)
     });
+    (lo, hi)
+}
+
+/// The table slab under the image's footprint.
+fn table(s: &Scenario) -> Obstacle {
+    let (lo, hi) = table_extent(s);
     let z = s.camera.table_z - 0.5 * TABLE_THICKNESS;
     let pose = Iso::translation(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), z);
     let half = [

@@ -191,7 +191,7 @@ fn over_pixel(
             return Ok(k);
         }
         nearest.push(format!(
-            "arm {}'s tool is over pixel ({u:.0}, {v:.0}), {:.1} cells away, tilted {:.1}° from straight down",
+            "the tool of the arm '{}' is over pixel ({u:.0}, {v:.0}), {:.1} cells away, tilted {:.1}° from straight down",
             arm.name,
             cells[0].max(cells[1]),
             tilt.to_degrees()

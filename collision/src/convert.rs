@@ -24,7 +24,6 @@ pub(crate) fn to_parry(pose: &Pose) -> PPose {
 }
 
 /// parry pose → nalgebra pose (exact).
-#[cfg_attr(not(test), allow(dead_code))]
 #[inline]
 pub(crate) fn from_parry(pose: &PPose) -> Pose {
     let t = pose.translation;

@@ -15,6 +15,8 @@
 //!   cross-checked against.
 //! - `fixture`: the regression-suite file format and its runner.
 //! - `bench`: the cross-check and timing behind `afford bench collision`.
+//! - [`replay`]: the physical replay of a trajectory in rapier3d (pieces
+//!   pushed, dropped and settled; contacts of the robot's links).
 //!
 //! The guarantee (see [`RobotGeometry::check_joint_path`] and
 //! [`RobotGeometry::check_tool_path`]): a path reported free keeps every
@@ -31,6 +33,7 @@ mod dense;
 mod error;
 mod fixture;
 
+pub mod replay;
 mod robot;
 mod scene;
 mod sweep;

@@ -49,6 +49,9 @@ pub const VELOCITY_LIMIT_RANGE: (f64, f64) = (1e-3, 100.0);
 /// Joint acceleration limits, rad/s² or m/s²: at least 1e-3, at most 10,000.
 pub const ACCELERATION_LIMIT_RANGE: (f64, f64) = (1e-3, 1e4);
 
+/// Joint jerk limits, rad/s³ or m/s³: at least 1e-2, at most 10⁶.
+pub const JERK_LIMIT_RANGE: (f64, f64) = (1e-2, 1e6);
+
 /// Largest gripper opening or finger length, metres.
 pub const MAX_GRIPPER_SIZE_M: f64 = 1.0;
 

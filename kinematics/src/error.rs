@@ -71,6 +71,7 @@ pub enum KinematicsError {
 
 /// Why an IK solve returned no configuration. Never a silently wrong answer.
 #[derive(Debug, Clone, PartialEq, Serialize, thiserror::Error)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum IkFailure {
     /// The target lies beyond what the arm can reach, whatever its joint limits.

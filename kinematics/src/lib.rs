@@ -39,6 +39,7 @@ pub use description::{
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use kchain::KBaseline;
+pub use load::DEFAULT_JERK_RAMP_S;
 pub use math::*;
 pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};
 pub use path::{JointPath, PathFailure, PathSettings, max_joint_step};

@@ -14,6 +14,14 @@ use crate::math::{Pose, Real};
 use crate::model::{Arm, Joint, JointKind, Link, RobotModel};
 use crate::urdf::{self, Tree};
 
+/// Jerk limit of a joint whose description and URDF give none: its
+/// acceleration limit reached from zero in this time, 0.02 s (two periods
+/// of a 100 Hz controller), so `jerk = acceleration / 0.02 s`. afford's
+/// choice (docs/decisions.md): no maker of the built-in arms publishes joint
+/// jerk limits; the one that does for a comparable arm (Franka Emika Panda,
+/// 7,500 rad/s³ against 7.5–20 rad/s²) allows a far shorter ramp.
+pub const DEFAULT_JERK_RAMP_S: Real = 0.02;
+
 impl RobotModel {
     /// A robot built into the binary (`kuka_iiwa14`, `care_o_bot4`).
     pub fn builtin(name: &str) -> Result<Self, KinematicsError> {
@@ -176,6 +184,13 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                 }
                 bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
                     .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
+                let jerk = match (d.jerk_limits.get(&j.name), j.jerk.is_finite()) {
+                    (Some(&jerk), _) => jerk,
+                    (None, true) => j.jerk,
+                    (None, false) => acceleration / DEFAULT_JERK_RAMP_S,
+                };
+                bounds::check_range("the limit", jerk, JERK_LIMIT_RANGE)
+                    .map_err(|problem| err(format!("jerk_limits.{}", j.name), problem))?;
                 if joints.len() == MAX_MOVABLE_JOINTS {
                     return Err(err(
                         "urdf".into(),
@@ -189,6 +204,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
                     upper: j.upper,
                     velocity: j.velocity,
                     acceleration,
+                    jerk,
                     effort: j.effort,
                 });
                 (j.origin, Some((joints.len() - 1, j.axis, j.kind)))
@@ -206,6 +222,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
     for (section, map) in [
         ("home", &d.home),
         ("acceleration_limits", &d.acceleration_limits),
+        ("jerk_limits", &d.jerk_limits),
     ] {
         if let Some(name) = map.keys().find(|n| joint_index(n).is_none()) {
             return Err(err(

@@ -34,6 +34,9 @@ pub struct Joint {
     pub upper: Real,
     pub velocity: Real,
     pub acceleration: Real,
+    /// Jerk limit, rad/s^3 (m/s^3): the description's `jerk_limits`, else
+    /// the URDF 1.2 `<limit jerk>`, else a documented default (load.rs).
+    pub jerk: Real,
     pub effort: Real,
 }
 

@@ -38,6 +38,8 @@ pub(crate) struct TreeJoint {
     pub effort: Real,
     /// URDF 1.2 acceleration limit (infinite when absent).
     pub acceleration: Real,
+    /// URDF 1.2 jerk limit (infinite when absent).
+    pub jerk: Real,
 }
 
 /// A parsed URDF: its links, root first.
@@ -327,6 +329,7 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
         velocity: lim.velocity,
         effort: lim.effort,
         acceleration: lim.acceleration,
+        jerk: lim.jerk,
     })
 }
 

@@ -153,3 +153,48 @@ fn robot_file_larger_than_the_bound_is_refused_unparsed() {
     );
     assert_names(&m, &["six_dof.yaml", "larger than"]);
 }
+
+/// Loads the six-DOF fixture with replacements in the URDF and the description.
+fn loaded(urdf_edit: (&str, &str), description_edit: (&str, &str)) -> RobotModel {
+    let (description, urdf) = texts();
+    assert!(urdf.contains(urdf_edit.0) && description.contains(description_edit.0));
+    RobotModel::from_texts(
+        &description.replacen(description_edit.0, description_edit.1, 1),
+        Path::new("six_dof.yaml"),
+        &urdf.replacen(urdf_edit.0, urdf_edit.1, 1),
+        Path::new("six_dof.urdf"),
+    )
+    .unwrap()
+}
+
+/// A joint's jerk limit comes from the description's `jerk_limits`, else
+/// the URDF 1.2 `<limit jerk>`, else the documented default ramp.
+#[test]
+fn jerk_limit_from_description_then_urdf_then_default() {
+    let limit = r#"effort="50" acceleration="5"/>"#;
+    let with_jerk = r#"effort="50" acceleration="5" jerk="300"/>"#;
+    let section = "acceleration_limits:";
+    let m = loaded((limit, with_jerk), (section, section));
+    assert_eq!(m.joints()[0].jerk, 300.0);
+    let m = loaded(
+        (limit, with_jerk),
+        (section, "jerk_limits: {j1: 120.0}\nacceleration_limits:"),
+    );
+    assert_eq!(m.joints()[0].jerk, 120.0);
+    let m = loaded((limit, limit), (section, section));
+    let j = &m.joints()[1];
+    assert_eq!(
+        j.jerk,
+        j.acceleration / afford_kinematics::DEFAULT_JERK_RAMP_S
+    );
+}
+
+#[test]
+fn jerk_limit_of_1e12_is_refused() {
+    let m = refused(
+        false,
+        "acceleration_limits:",
+        "jerk_limits: {j2: 1e12}\nacceleration_limits:",
+    );
+    assert_names(&m, &["six_dof.yaml", "jerk_limits.j2"]);
+}

@@ -13,6 +13,7 @@
 //! | affordances, initial Q | [`discrete`] | [`affordance`] | eq. (7)–(9) |
 //! | learning | [`discrete`] | [`cql`] | eq. (10)–(11), Algorithm 3 |
 //! | oracle | [`discrete`] | [`oracle`] | — (BFS, for measurement) |
+//! | MDP export | [`discrete`] | [`export`] | — (for the deep-RL baselines) |
 //! | the robot's state at t = 0 | [`motion`] | [`start`] | — |
 //! | lifting to 3-D, placement | [`motion`] | [`lift`], [`smooth`], [`place`] | spline interpolation, Alg. 3 |
 //! | arm choice, IK | [`motion`] | [`motion`] (over `afford-kinematics`) | — |
@@ -32,6 +33,7 @@ pub mod bench;
 pub mod discrete;
 pub mod error;
 pub mod instruction;
+pub mod monitor;
 pub mod motion;
 pub mod plan;
 pub mod scenario;
@@ -39,13 +41,13 @@ pub mod timing;
 
 // The stages keep their short paths (`afford_planner::grid`, …): the folders
 // group them by pipeline stage, the names stay what users already import.
-pub use discrete::{affordance, cql, grid, oracle, task};
+pub use discrete::{affordance, cql, export, grid, oracle, task};
 pub use motion::{clearance, geometry, lift, place, smooth, start, transit};
 pub use timing::trajectory;
 
 pub use cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
 pub use error::{FieldIssue, InstructionError, PlanError, ScenarioError};
 pub use grid::{CellCode, StateGrid};
-pub use plan::{JointState, Plan, PlanOptions, Planner, Stage, plan};
+pub use plan::{HeldObject, JointState, MidExecution, Plan, PlanOptions, Planner, Stage, plan};
 pub use scenario::Scenario;
 pub use task::{Action, GridTask};

@@ -8,20 +8,22 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use afford_collision::RobotGeometry;
+use afford_collision::{Collision, RobotGeometry};
 use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
 use crate::clearance::{ArmMotion, FreeMoves, Leg, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
-use crate::error::PlanError;
+use crate::error::{FieldIssue, HitPlace, PlanError, Refusal, TransitFailure};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
-use crate::lift::{GripperReach, LiftSettings, LiftedMotion, Phase, grasp_pose, lift};
+use crate::lift::{
+    GripperReach, LiftRequest, LiftSettings, LiftedMotion, Phase, carry_height, grasp_pose, lift,
+};
 use crate::motion::{IK_STARTS, IkStart, solve_motions};
 use crate::oracle;
-use crate::scenario::Scenario;
+use crate::scenario::{PixelBox, Scenario};
 use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
 use crate::timing::TimingSettings;
@@ -58,8 +60,77 @@ pub struct PlanOptions {
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
-    /// Folder that relative paths in the scenario (a user robot) start from.
+    /// Folder that a relative `robot.model` path starts from. The rule, the
+    /// same in the library and the CLI: a scenario read from a file resolves
+    /// it against the file's folder ([`PlanOptions::for_scenario_file`],
+    /// what `afford` does); a scenario built in code against `base_dir`,
+    /// by default the current directory.
     pub base_dir: PathBuf,
+}
+
+/// Most re-plans a sub-goal may take ([`PlanOptions::max_replans`]).
+pub const MAX_REPLANS: usize = 64;
+
+/// Largest clearance or step of [`LiftSettings`], m.
+const MAX_LIFT_LENGTH_M: f64 = 1.0;
+
+impl PlanOptions {
+    /// These options with `base_dir` set to the folder of the scenario file
+    /// at `path` (the rule on [`PlanOptions::base_dir`]).
+    pub fn for_scenario_file(self, path: &std::path::Path) -> Self {
+        Self {
+            base_dir: crate::scenario::base_dir(path),
+            ..self
+        }
+    }
+
+    /// Every problem with the options, each naming its field
+    /// (`timing.rate_hz`, `lift.max_step`, …); [`Planner::plan`] runs it
+    /// first. `Err` is [`PlanError::Options`].
+    pub fn validate(&self) -> Result<(), PlanError> {
+        let mut issues = Vec::new();
+        if let Err(e) = crate::scenario::bounds::check_rate(self.timing.rate_hz) {
+            issues.push(FieldIssue::new("timing.rate_hz", e));
+        } else if let Err(e) = self.timing.validate() {
+            issues.push(FieldIssue::new("timing", e.to_string()));
+        }
+        if let Err(e) = self.ik.validate() {
+            issues.push(FieldIssue::new("ik", e.to_string()));
+        }
+        let l = &self.lift;
+        for (field, value) in [
+            ("approach_clearance", l.approach_clearance),
+            ("carry_clearance", l.carry_clearance),
+            ("release_clearance", l.release_clearance),
+            ("min_grasp_height", l.min_grasp_height),
+            ("max_step", l.max_step),
+            ("tip_clearance", l.tip_clearance),
+            ("palm_clearance", l.palm_clearance),
+            ("min_grip_depth", l.min_grip_depth),
+            ("opening_clearance", l.opening_clearance),
+        ] {
+            let positive = field != "max_step" || value > 0.0;
+            if !(value.is_finite() && (0.0..=MAX_LIFT_LENGTH_M).contains(&value) && positive) {
+                issues.push(FieldIssue::new(
+                    format!("lift.{field}"),
+                    format!(
+                        "must be between 0 and {MAX_LIFT_LENGTH_M} m{}, got {value}",
+                        if positive { "" } else { " and above 0" }
+                    ),
+                ));
+            }
+        }
+        if self.max_replans > MAX_REPLANS {
+            issues.push(FieldIssue::new(
+                "max_replans",
+                format!("must be at most {MAX_REPLANS}, got {}", self.max_replans),
+            ));
+        }
+        match issues.is_empty() {
+            true => Ok(()),
+            false => Err(PlanError::Options { issues }),
+        }
+    }
 }
 
 impl Default for PlanOptions {
@@ -147,6 +218,29 @@ pub struct JointState {
     pub positions: Vec<f64>,
 }
 
+/// Where a replanned execution starts (the monitor's braking stop or the
+/// end of a sub-goal): the whole robot's joint state, in
+/// [`RobotModel::joints`] order, and the object the gripper holds, if any.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MidExecution {
+    pub joints: Vec<f64>,
+    pub held: Option<HeldObject>,
+}
+
+/// An object in the gripper: its first sub-goal only carries it on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldObject {
+    /// The scenario object's name.
+    pub object: String,
+    /// Its box where it rested when the fingers closed, pixels: with
+    /// `grasp` it fixes the object's pose in the gripper.
+    pub grasped_box: PixelBox,
+    /// The arm holding it.
+    pub arm: String,
+    /// That arm's configuration when the fingers closed.
+    pub grasp: Vec<f64>,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridInfo {
     pub size: [usize; 2],
@@ -154,11 +248,27 @@ pub struct GridInfo {
     pub origin_px: [f64; 2],
 }
 
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+/// A sub-goal that could not be planned: `reason` is the message a person
+/// reads, `refusal` the typed kind and data a program branches on (JSON
+/// `{"kind": ..., ...fields, "message": ...}`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UnsolvedSubgoal {
     pub object: String,
     pub goal: String,
     pub reason: String,
+    #[serde(serialize_with = "crate::error::serialize_explained")]
+    pub refusal: Refusal,
+}
+
+impl UnsolvedSubgoal {
+    pub fn new(goal: &SubGoal, refusal: Refusal) -> Self {
+        Self {
+            object: goal.object.clone(),
+            goal: goal.goal.clone(),
+            reason: refusal.to_string(),
+            refusal,
+        }
+    }
 }
 
 /// Time spent in each named stage, summed over sub-goals.
@@ -194,11 +304,17 @@ pub struct Planner {
 struct World {
     scene: Scenario,
     gripper_px: [f64; 2],
+    /// The tool's height above the table when it points down over
+    /// `gripper_px` (metres), `None` otherwise ([`start::tool_height_over`]).
+    gripper_height: Option<f64>,
     robot: Option<RobotModel>,
     geometry: Option<RobotGeometry>,
     /// The gripper's reach and opening (stage `waypoints` and later).
     gripper: Option<GripperReach>,
     joints: Vec<f64>,
+    /// The object in the gripper when planning starts mid-execution; only
+    /// the first sub-goal carries it ([`Planner::plan_from`]).
+    held: Option<HeldObject>,
 }
 
 impl Planner {
@@ -208,12 +324,14 @@ impl Planner {
 
     /// Plans every sub-goal of `scenario`'s instruction, stage by stage up to
     /// `options.until`. `Err` when the input is bad (instruction not
-    /// executable, robot cannot be loaded) or no sub-goal could be planned;
+    /// executable, robot cannot be loaded, options or scenario invalid —
+    /// the same errors a scenario file gets) or no sub-goal could be planned;
     /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
     pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
+        self.options.validate()?;
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
-        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        scenario.validate()?;
         let mut timings = StageTimings::default();
         let Interpretation {
             subgoals: goals,
@@ -235,9 +353,11 @@ impl Planner {
         mut timings: StageTimings,
     ) -> Result<Plan, PlanError> {
         let options = &self.options;
+        options.validate()?;
         let Some(first_goal) = goals.first() else {
             return Err(PlanError::Unsolvable {
                 reasons: vec!["no sub-goals to plan".to_string()],
+                unsolved: Vec::new(),
             });
         };
         let spec = &scenario.robot;
@@ -275,13 +395,18 @@ impl Planner {
             (Some(r), Some(g)) => Some(gripper_reach(r, g).map_err(PlanError::Robot)?),
             _ => None,
         };
+        let gripper_height = robot
+            .as_ref()
+            .and_then(|r| start::tool_height_over(scenario, r, &joints, gripper_px));
         let mut world = World {
             scene: scenario.clone(),
             gripper_px,
+            gripper_height,
             robot,
             geometry,
             gripper,
             joints,
+            held: None,
         };
         let (subgoals, unsolved) = self.plan_chain(&mut world, goals, &mut timings);
         let plan = Plan {
@@ -300,7 +425,10 @@ impl Planner {
                 .iter()
                 .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
                 .collect();
-            return Err(PlanError::Unsolvable { reasons });
+            return Err(PlanError::Unsolvable {
+                reasons,
+                unsolved: plan.unsolved,
+            });
         }
         Ok(plan)
     }
@@ -322,7 +450,7 @@ impl Planner {
         if let Some(last) = park.last_mut() {
             *last = true;
         }
-        let mut outcomes: Vec<Result<SubgoalPlan, String>> = Vec::new();
+        let mut outcomes: Vec<Result<SubgoalPlan, Refusal>> = Vec::new();
         let mut snapshots: Vec<Option<Snapshot>> = vec![None; goals.len()];
         // After a rewind to sub-goal j: the outcomes and the world as they
         // were, restored when j does not plan with its arm parking.
@@ -353,11 +481,11 @@ impl Planner {
                 false => None,
             };
             let Some(j) = rewind else {
-                outcomes.push(Err(refused.reason));
+                outcomes.push(Err(*refused.reason));
                 continue;
             };
             let mut saved = outcomes.clone();
-            saved.push(Err(refused.reason));
+            saved.push(Err(*refused.reason));
             fallback = Some((j, saved, world.snapshot()));
             park[j] = true;
             outcomes.truncate(j);
@@ -370,11 +498,7 @@ impl Planner {
         for (goal, outcome) in goals.iter().zip(outcomes) {
             match outcome {
                 Ok(done) => subgoals.push(done),
-                Err(reason) => unsolved.push(UnsolvedSubgoal {
-                    object: goal.object.clone(),
-                    goal: goal.goal.clone(),
-                    reason,
-                }),
+                Err(refusal) => unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
             }
         }
         (subgoals, unsolved)
@@ -386,7 +510,7 @@ impl Planner {
     fn rewind_to(
         &self,
         world: &World,
-        outcomes: &[Result<SubgoalPlan, String>],
+        outcomes: &[Result<SubgoalPlan, Refusal>],
         park: &[bool],
     ) -> Option<usize> {
         let robot = world.robot.as_ref()?;
@@ -394,6 +518,85 @@ impl Planner {
         let arm = outcomes[j].as_ref().ok()?.arm.as_ref()?;
         let arm = robot.arm(arm).ok()?;
         (!park[j] && !arm.park.is_empty() && !start::is_parked(arm, &world.joints)).then_some(j)
+    }
+
+    /// Plans `goals` (every stage) from a mid-execution state: the robot
+    /// where it stopped, the grid starting under the tool of the arm that
+    /// moved, and — when `from.held` names the first goal's object — that
+    /// sub-goal only carries the object on from where it is (no travel, no
+    /// grasp: its trajectory has no close command). `Err` as for
+    /// [`Self::plan`]; `scenario` is the scene as the camera sees it now.
+    pub fn plan_from(
+        &self,
+        scenario: &Scenario,
+        goals: &[SubGoal],
+        from: &MidExecution,
+    ) -> Result<Plan, PlanError> {
+        let robot = RobotModel::load(&scenario.robot.model, &self.options.base_dir)
+            .map_err(|e| PlanError::Robot(e.to_string()))?;
+        let geometry = RobotGeometry::new(&robot).map_err(|e| PlanError::Robot(e.to_string()))?;
+        self.plan_from_loaded(scenario, &robot, &geometry, goals, from)
+    }
+
+    /// [`Self::plan_from`] with the scenario's robot already loaded (a
+    /// monitor replanning keeps it).
+    pub fn plan_from_loaded(
+        &self,
+        scenario: &Scenario,
+        robot: &RobotModel,
+        geometry: &RobotGeometry,
+        goals: &[SubGoal],
+        from: &MidExecution,
+    ) -> Result<Plan, PlanError> {
+        self.options.validate()?;
+        crate::scenario::check(scenario, scenario.name.as_deref().unwrap_or("scenario"))?;
+        let (robot, geometry) = (robot.clone(), geometry.clone());
+        let gripper = gripper_reach(&robot, &geometry).map_err(PlanError::Robot)?;
+        let arm = from.held.as_ref().map(|h| h.arm.as_str());
+        let start = start::mid_execution(scenario, &robot, from.joints.clone(), arm);
+        let mut scene = scenario.clone();
+        let held = from
+            .held
+            .clone()
+            .filter(|h| goals.first().is_some_and(|g| g.object == h.object));
+        if let Some(object) = held.as_ref().and_then(|h| scene.object_index(&h.object)) {
+            // The camera sees the held object under the gripper.
+            let b = &mut scene.objects[object].bbox;
+            *b = b.centred_at(start.gripper_px);
+        }
+        let gripper_height =
+            start::tool_height_over(&scene, &robot, &start.joints, start.gripper_px);
+        let mut world = World {
+            scene,
+            gripper_px: start.gripper_px,
+            gripper_height,
+            robot: None,
+            geometry: Some(geometry),
+            gripper: Some(gripper),
+            joints: start.joints,
+            held,
+        };
+        let start_state = Some(JointState {
+            joint_names: robot.joints().iter().map(|j| j.name.clone()).collect(),
+            positions: from.joints.clone(),
+        });
+        world.robot = Some(robot);
+        let planner = Planner::new(PlanOptions {
+            until: Stage::Trajectory,
+            ..self.options.clone()
+        });
+        let mut timings = StageTimings::default();
+        let (subgoals, unsolved) = planner.plan_chain(&mut world, goals, &mut timings);
+        Ok(Plan {
+            scenario: scenario.name.clone().unwrap_or_default(),
+            seed: self.options.seed,
+            until: Stage::Trajectory,
+            start_state,
+            skipped: Vec::new(),
+            subgoals,
+            unsolved,
+            timings,
+        })
     }
 
     /// The robot's state at t = 0 ([`crate::start`]); the first sub-goal
@@ -445,14 +648,16 @@ impl Planner {
                 .replannable_cell
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
             match cell {
+                // The route's carry height came first: a collision is met
+                // with the full height before any cell is blocked.
+                _ if hit.lowered && !retry.full_height => retry.full_height = true,
                 Some(cell) if !retry.blocked.contains(&cell) => retry.blocked.push(cell),
-                _ if hit.at_grasp && !retry.flipped => retry.flipped = true,
-                _ => {
-                    return Err(Refused::motion(format!(
-                        "the motion collides: {}",
-                        hit.message
-                    )));
+                _ if hit.at_grasp
+                    && retry.turn + 1 < grasp_turns(world, request, &self.options) =>
+                {
+                    retry.turn += 1
                 }
+                _ => return Err(Refused::motion(hit.refusal)),
             }
         }
     }
@@ -486,45 +691,48 @@ impl Planner {
         let Some(optimal) = oracle::optimal_length(&task) else {
             return Err(match blocked.is_empty() {
                 true => Refused::early(why_unsolvable(scene, request, opening(world))),
-                false => Refused::motion(format!(
-                    "no route is left once {} cells the arm collides over are blocked",
-                    blocked.len()
-                )),
+                false => Refused::motion(Refusal::NoRoute {
+                    object: scene.objects[request.object].name.clone(),
+                    goal: scene.goals[request.goal].name.clone(),
+                    blocked_cells: blocked.len(),
+                }),
             });
         };
         if !learned.solved {
-            return Err(Refused::early(format!(
-                "the learner found no plan within {} training steps",
-                learned.training_steps
-            )));
+            return Err(Refused::early(Refusal::LearnerBudget {
+                training_steps: learned.training_steps,
+            }));
         }
         let mut done = subgoal_plan(goal, &task, &learned, optimal);
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
         let Some(gripper) = &world.gripper else {
-            return Err(Refused::early(
-                "the robot is needed to lift the plan".to_string(),
-            ));
+            return Err(Refused::early(Refusal::internal(
+                "lift",
+                "the robot is needed to lift the plan",
+            )));
+        };
+        let lift_request = LiftRequest {
+            object: request.object,
+            goal: request.goal,
+            actions: &learned.actions,
+            cells: &learned.cells,
+            start_px: world.gripper_px,
+            start_height: world.gripper_height,
+            full_height: retry.full_height,
         };
         let mut motion = timed(&mut timings.lift, || {
-            lift(
-                scene,
-                &task,
-                request.object,
-                request.goal,
-                &learned.actions,
-                &learned.cells,
-                gripper,
-                &options.lift,
-            )
+            lift(scene, &task, &lift_request, gripper, &options.lift)
         })
         .map_err(Refused::early)?;
-        if retry.flipped {
-            motion
-                .waypoints
-                .iter_mut()
-                .for_each(|w| w.yaw += std::f64::consts::PI);
+        let turn = f64::from(GRASP_TURNS[retry.turn]) * std::f64::consts::FRAC_PI_2;
+        if turn != 0.0 {
+            motion.waypoints.iter_mut().for_each(|w| w.yaw += turn);
+        }
+        let held = world.held.as_ref().filter(|h| h.object == goal.object);
+        if held.is_some() {
+            carry_on(&mut motion);
         }
         let (Some(robot), Some(geometry), true) = (
             &world.robot,
@@ -538,8 +746,8 @@ impl Planner {
         // is free moves. When none is, the arms try again with their IK
         // started from their home posture, then from random postures
         // (other branches: an IK posture may fold into the body). A collision of
-        // the cheapest goes back to the grid when no arm is free; transit
-        // refusals are named with it.
+        // the cheapest goes back to the grid when no arm is free; else the
+        // transits not found are the refusal.
         let mut first_hit: Option<Replan> = None;
         let mut no_transit = Vec::new();
         let mut free = None;
@@ -564,9 +772,7 @@ impl Planner {
                     ArmMotionOutcome::Collides(hit) => {
                         first_hit.get_or_insert(*hit);
                     }
-                    ArmMotionOutcome::NoTransit(reason) => {
-                        no_transit.push(format!("arm {}: {reason}", arm.name));
-                    }
+                    ArmMotionOutcome::NoTransit(failure) => no_transit.push(failure),
                 }
             }
             if free.is_some() {
@@ -575,16 +781,8 @@ impl Planner {
         }
         let Some((choice, arm, planned)) = free else {
             return match first_hit {
-                Some(mut hit) => {
-                    no_transit
-                        .iter()
-                        .for_each(|r| hit.message.push_str(&format!("; {r}")));
-                    Ok(Attempt::Collides(Box::new(hit)))
-                }
-                None => Err(Refused::motion(format!(
-                    "no collision-free transit: {}",
-                    no_transit.join("; ")
-                ))),
+                Some(hit) => Ok(Attempt::Collides(Box::new(hit))),
+                None => Err(Refused::motion(Refusal::NoTransit { arms: no_transit })),
             };
         };
         let PlannedPath {
@@ -603,8 +801,11 @@ impl Planner {
                 separation: &scene.safety.separation,
                 settings: &options.timing,
             };
-            let timed_motion =
+            let mut timed_motion =
                 timed(&mut timings.timing, || time_motion(&request)).map_err(Refused::motion)?;
+            if held.is_some() {
+                drop_leading_close(&mut timed_motion);
+            }
             let (grasp_at, release_at) = timed_motion.gripper_samples();
             let positions: Vec<Vec<f64>> = timed_motion
                 .points
@@ -620,16 +821,18 @@ impl Planner {
                 path: &positions,
                 grasp_at,
                 release_at,
+                held: held.map(|h| (h.grasped_box, h.grasp.as_slice())),
             };
             if let Some(hit) = timed(&mut timings.collision, || {
                 check_motion(robot, geometry, &verify)
             })
-            .map_err(Refused::motion)?
+            .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?
             {
-                let t = timed_motion.points[hit.index].time_from_start;
-                return Err(Refused::motion(format!(
-                    "the timed trajectory collides at t = {t:.3} s: {}",
-                    hit.collision
+                let time_s = timed_motion.points[hit.index].time_from_start;
+                return Err(Refused::motion(collides(
+                    &arm.name,
+                    &hit.collision,
+                    HitPlace::Trajectory { time_s },
                 )));
             }
             done.trajectory = Some(timed_motion);
@@ -663,6 +866,7 @@ impl Planner {
     ) -> Result<ArmMotionOutcome, Refused> {
         let (world, request) = (pass.world, pass.request);
         let scene = &world.scene;
+        let held = world.held.as_ref().filter(|h| h.object == pass.goal.object);
         let moves = |leg| {
             FreeMoves::new(
                 robot,
@@ -674,28 +878,43 @@ impl Planner {
                 &world.joints,
                 leg,
             )
-            .map_err(Refused::motion)
+            .map_err(|e| Refused::motion(Refusal::internal("collision", e)))
         };
-        let before = moves(Leg::BeforeGrasp)?;
+        // An object already in the hand is no obstacle to it.
+        let before = moves(match held {
+            Some(_) => Leg::AfterRelease,
+            None => Leg::BeforeGrasp,
+        })?;
         let skip = timed(&mut timings.transit, || {
             leading_blocked(&before, motion, &choice.path.waypoints)
         })
-        .map_err(Refused::motion)?;
+        .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?;
         let motion = LiftedMotion {
             waypoints: motion.waypoints[skip..].to_vec(),
             ..motion.clone()
         };
-        let waypoints = &choice.path.waypoints[skip..];
         let start = arm.extract(&world.joints);
+        let mut waypoints = choice.path.waypoints[skip..].to_vec();
+        // The route starts where the tool is: a first waypoint whose IK lands
+        // on the current configuration is that configuration exactly.
+        if let Some(q) = waypoints.first_mut()
+            && q.iter()
+                .zip(&start)
+                .all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
+        {
+            q.clone_from(&start);
+        }
         let first = waypoints.first().cloned().unwrap_or_else(|| start.clone());
         let stream = 2 * choice.arm_index;
         let mut lead =
             match self.transit(arm, &before, &start, &first, pass.seed, stream, timings)? {
                 Ok(path) => path,
                 Err(e) => {
-                    return Ok(ArmMotionOutcome::NoTransit(format!(
-                        "on the way to the first waypoint: {e}"
-                    )));
+                    return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
+                        arm: arm.name.clone(),
+                        place: HitPlace::ToFirstWaypoint,
+                        reason: e.to_string(),
+                    }));
                 }
             };
         // The transit ends on the first waypoint, which the IK path starts with.
@@ -704,7 +923,7 @@ impl Planner {
         let offset = lead.len();
         let mut joint_path: Vec<Vec<f64>> = std::iter::once(start)
             .chain(lead)
-            .chain(waypoints.iter().cloned())
+            .chain(waypoints)
             .collect();
         if pass.park && !arm.park.is_empty() {
             let after = moves(Leg::AfterRelease)?;
@@ -713,14 +932,18 @@ impl Planner {
             match self.transit(arm, &after, &last, &parked, pass.seed, stream + 1, timings)? {
                 Ok(path) => joint_path.extend(path),
                 Err(e) => {
-                    return Ok(ArmMotionOutcome::NoTransit(format!(
-                        "returning to park: {e}"
-                    )));
+                    return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
+                        arm: arm.name.clone(),
+                        place: HitPlace::ReturningToPark,
+                        reason: e.to_string(),
+                    }));
                 }
             }
         }
         let (grasp_at, release_at) = motion.gripper_switches();
-        let (grasp_at, release_at) = (grasp_at + offset, release_at + offset);
+        // An object already held is held from the start.
+        let grasp_at = held.map_or(grasp_at + offset, |_| 0);
+        let release_at = release_at + offset;
         let check = ArmMotion {
             scenario: scene,
             target: request.object,
@@ -730,15 +953,17 @@ impl Planner {
             path: &joint_path,
             grasp_at,
             release_at,
+            held: held.map(|h| (h.grasped_box, h.grasp.as_slice())),
         };
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
         })
-        .map_err(Refused::motion)?
+        .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?
         {
-            return Ok(ArmMotionOutcome::Collides(Box::new(Replan::of(
-                hit, offset, scene, task, &motion,
-            ))));
+            let mut replan = Replan::of(hit, offset, scene, task, &motion, &arm.name);
+            replan.lowered = motion.carry_height
+                < carry_height(scene, request.object, &self.options.lift) - 1e-9;
+            return Ok(ArmMotionOutcome::Collides(Box::new(replan)));
         }
         Ok(ArmMotionOutcome::Free(PlannedPath {
             joint_path,
@@ -780,7 +1005,7 @@ impl Planner {
             Err(TransitError::StartCollides | TransitError::EndCollides) => {
                 Ok(Ok(joint_steps(from, to, settings.max_step)))
             }
-            Err(TransitError::Check(e)) => Err(Refused::motion(e)),
+            Err(TransitError::Check(e)) => Err(Refused::motion(Refusal::internal("collision", e))),
             Err(e) => Ok(Err(e)),
         }
     }
@@ -824,7 +1049,8 @@ struct Pass<'a> {
 /// Why a sub-goal was not planned.
 #[derive(Debug)]
 struct Refused {
-    reason: String,
+    /// Boxed: a refusal is large and `Refused` is every stage's `Err`.
+    reason: Box<Refusal>,
     /// The arm's motion failed (joints or trajectory stage): another robot
     /// state (the previous arm parked) may plan it.
     motion: bool,
@@ -832,16 +1058,16 @@ struct Refused {
 
 impl Refused {
     /// Refused before any arm moves (scene, grid, learner, lifting).
-    fn early(reason: String) -> Self {
+    fn early(reason: Refusal) -> Self {
         Self {
-            reason,
+            reason: Box::new(reason),
             motion: false,
         }
     }
 
-    fn motion(reason: String) -> Self {
+    fn motion(reason: Refusal) -> Self {
         Self {
-            reason,
+            reason: Box::new(reason),
             motion: true,
         }
     }
@@ -861,7 +1087,7 @@ enum ArmMotionOutcome {
     Free(PlannedPath),
     Collides(Box<Replan>),
     /// No collision-free transit within the planner's budget.
-    NoTransit(String),
+    NoTransit(TransitFailure),
 }
 
 /// What a sub-goal's next pass does differently after a collision.
@@ -869,9 +1095,33 @@ enum ArmMotionOutcome {
 struct Retry {
     /// Cells the arm collided over, blocked in the grid.
     blocked: Vec<Cell>,
-    /// Grasp with the tool turned half a turn (a hand whose open finger
-    /// sticks out to one side then has it on the other).
-    flipped: bool,
+    /// Index into [`GRASP_TURNS`]: how the tool is turned about its axis at
+    /// every waypoint of the pass.
+    turn: usize,
+    /// Carry at the full height (the tallest thing on the table), not the
+    /// height the route needs.
+    full_height: bool,
+}
+
+/// Quarter turns of the tool tried in order after a hit where the hand
+/// closes or opens: none, half a turn (a hand whose open finger sticks out
+/// to one side then has it on the other), then the fingers across the
+/// object's longer side both ways (open fingers that straddle a neighbour
+/// or a box wall then lie along it), when that side fits the opening
+/// ([`grasp_turns`]). The held object keeps its orientation on the table.
+const GRASP_TURNS: [u8; 4] = [0, 2, 1, 3];
+
+/// How many of [`GRASP_TURNS`] the object allows: all four when its longer
+/// side plus the opening clearance fits the gripper's opening, else the
+/// first two.
+fn grasp_turns(world: &World, request: GridRequest, options: &PlanOptions) -> usize {
+    let [mu, mv] = world.scene.metres_per_pixel();
+    let b = world.scene.objects[request.object].bbox;
+    let longer = (b.w * mu).max(b.l * mv);
+    match world.gripper {
+        Some(g) if longer + options.lift.opening_clearance <= g.max_opening => GRASP_TURNS.len(),
+        _ => 2,
+    }
 }
 
 /// The outcome of one pass through the stages.
@@ -882,8 +1132,8 @@ enum Attempt {
 
 /// A collision the grid did not see, and the cell to block for the next pass.
 struct Replan {
-    /// The collision in words, with the waypoint and phase where it happens.
-    message: String,
+    /// The collision with the waypoint and phase where it happens.
+    refusal: Refusal,
     /// The cell under the colliding waypoint, when it is a travel or carry
     /// waypoint over a cell that may be blocked (not the start, the target or
     /// the goal).
@@ -891,6 +1141,8 @@ struct Replan {
     /// The hit is where the hand closes or opens on the object (approach,
     /// grasp, lift, release): turning the tool may avoid it.
     at_grasp: bool,
+    /// The motion carried lower than the full height (the route's height).
+    lowered: bool,
 }
 
 impl Replan {
@@ -902,22 +1154,17 @@ impl Replan {
         scene: &Scenario,
         task: &GridTask,
         motion: &LiftedMotion,
+        arm: &str,
     ) -> Self {
         let grid = &task.grid;
         let at = hit
             .index
             .checked_sub(offset)
             .and_then(|i| motion.waypoint_of(i));
-        let message = match at {
-            Some((k, phase)) => format!(
-                "{} waypoint {k}: {}",
-                format!("{phase:?}").to_lowercase(),
-                hit.collision
-            ),
-            None if hit.index <= offset => {
-                format!("on the way to the first waypoint: {}", hit.collision)
-            }
-            None => format!("returning to park: {}", hit.collision),
+        let place = match at {
+            Some((waypoint, phase)) => HitPlace::Waypoint { phase, waypoint },
+            None if hit.index <= offset => HitPlace::ToFirstWaypoint,
+            None => HitPlace::ReturningToPark,
         };
         let cell = at
             .filter(|(_, phase)| matches!(phase, Phase::Travel | Phase::Carry))
@@ -933,22 +1180,25 @@ impl Replan {
             )
         });
         Self {
-            message,
+            refusal: collides(arm, &hit.collision, place),
             replannable_cell: cell,
             at_grasp,
+            lowered: false,
         }
     }
 }
 
 /// The sub-goal a chain went back to, and the outcomes and world before.
-type Rewound = (usize, Vec<Result<SubgoalPlan, String>>, Snapshot);
+type Rewound = (usize, Vec<Result<SubgoalPlan, Refusal>>, Snapshot);
 
 /// The part of the [`World`] a sub-goal changes, to plan it again.
 #[derive(Clone)]
 struct Snapshot {
     scene: Scenario,
     gripper_px: [f64; 2],
+    gripper_height: Option<f64>,
     joints: Vec<f64>,
+    held: Option<HeldObject>,
 }
 
 impl World {
@@ -956,21 +1206,27 @@ impl World {
         Snapshot {
             scene: self.scene.clone(),
             gripper_px: self.gripper_px,
+            gripper_height: self.gripper_height,
             joints: self.joints.clone(),
+            held: self.held.clone(),
         }
     }
 
     fn restore(&mut self, state: Snapshot) {
         self.scene = state.scene;
         self.gripper_px = state.gripper_px;
+        self.gripper_height = state.gripper_height;
         self.joints = state.joints;
+        self.held = state.held;
     }
 
     /// The scene after a planned sub-goal: the object rests on its spot in
     /// the goal box, the gripper is over it, the arm where its path ended
     /// (other arms stay where they are: the collision check sees them there).
     fn advance(&mut self, request: GridRequest, done: &SubgoalPlan) {
+        self.held = None;
         self.gripper_px = done.release_px;
+        self.gripper_height = None;
         let object = &mut self.scene.objects[request.object];
         object.bbox = object.bbox.centred_at(self.gripper_px);
         let (Some(robot), Some(arm), Some(path)) = (&self.robot, &done.arm, &done.joint_path)
@@ -986,6 +1242,45 @@ impl World {
         if let (Ok(arm), Some(last)) = (robot.arm(arm), last) {
             arm.insert(&mut self.joints, last);
         }
+        self.gripper_height =
+            start::tool_height_over(&self.scene, robot, &self.joints, self.gripper_px);
+    }
+}
+
+/// Largest joint difference (rad or m) at which a solved configuration is
+/// taken as the current one (IK converges to about 1e-9).
+const SAME_CONFIGURATION: f64 = 1e-6;
+
+/// The lifted motion of an object already in the gripper: everything up
+/// to the lift (travel, approach, grasp, lift) is dropped, so the motion
+/// starts with the carry.
+fn carry_on(motion: &mut LiftedMotion) {
+    let carry = motion
+        .waypoints
+        .iter()
+        .position(|w| matches!(w.phase, Phase::Carry | Phase::OverWall))
+        .unwrap_or(0);
+    motion.waypoints.drain(..carry);
+}
+
+/// The trajectory of a motion that starts holding: the close command the
+/// timing stage put at t = 0 (and the rest it waited for it) is dropped.
+fn drop_leading_close(motion: &mut TimedMotion) {
+    let Some(close) = motion
+        .gripper
+        .iter()
+        .position(|e| e.command == crate::trajectory::GripperCommand::Close)
+    else {
+        return;
+    };
+    let shift = motion.gripper.remove(close).end;
+    motion.points.retain(|p| p.time_from_start >= shift - 1e-9);
+    for p in &mut motion.points {
+        p.time_from_start = (p.time_from_start - shift).max(0.0);
+    }
+    for e in &mut motion.gripper {
+        e.start -= shift;
+        e.end -= shift;
     }
 }
 
@@ -1030,6 +1325,7 @@ fn subgoal_plan(
         path_px: learned.cells.iter().map(|&c| grid.centre(c)).collect(),
         release_px: grid
             .release
+            .map(|r| r.spot)
             .unwrap_or_else(|_| grid.centre(*learned.cells.last().unwrap_or(&grid.start))),
         training_steps: learned.training_steps,
         optimal_length,
@@ -1053,16 +1349,31 @@ fn opening(world: &World) -> Option<[f64; 2]> {
     world.gripper.map(|g| g.finger_half_extent)
 }
 
-/// Why the oracle finds no plan, in words a user can act on.
-fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> String {
+/// The refusal of a collision `hit` of `arm` at `place`.
+fn collides(arm: &str, hit: &Collision, place: HitPlace) -> Refusal {
+    Refusal::Collides {
+        arm: arm.to_string(),
+        body: hit.body.clone(),
+        other: hit.other.clone(),
+        hit: hit.kind,
+        place,
+        clearance_m: hit.clearance,
+        penetration_m: hit.penetration,
+        margin_m: hit.margin,
+        depth_m: hit.margin_violation.max(0.0),
+    }
+}
+
+/// Why the oracle finds no plan, in terms a user can act on.
+fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> Refusal {
     let grid = StateGrid::build_placing(scene, request, opening);
-    let object = &scene.objects[request.object].name;
-    let goal = &scene.goals[request.goal].name;
+    let object = scene.objects[request.object].name.clone();
+    let goal = scene.goals[request.goal].name.clone();
     if grid.code(grid.target) == CellCode::Hand {
-        return format!("a hand covers {object}");
+        return Refusal::HandCoversTarget { object };
     }
     if grid.code(grid.start) == CellCode::Hand {
-        return "a hand's perimeter covers the gripper: wait for the hand to move".to_string();
+        return Refusal::HandCoversGripper;
     }
     if let Err(no_spot) = grid.release {
         return no_spot.reason(scene, request.object, request.goal);
@@ -1073,7 +1384,11 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 
     };
     let grid = StateGrid::build_placing(&without_hands, request, opening);
     if oracle::optimal_length(&GridTask::new(grid)).is_some() {
-        return "hand blocks every route".to_string();
+        return Refusal::HandBlocksRoute { object, goal };
     }
-    format!("no free route from the gripper to {object} and on to the {goal}")
+    Refusal::NoRoute {
+        object,
+        goal,
+        blocked_cells: 0,
+    }
 }

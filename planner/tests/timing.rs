@@ -921,3 +921,80 @@ fn measure_examples() {
         }
     }
 }
+
+/// Per example sub-goal: moving time against the converged reference,
+/// timing wall time, reversals, peak jerk (not run by default):
+/// `cargo test --release -p afford-planner --test timing -- --ignored --nocapture measure_example_subgoals`.
+#[test]
+#[ignore = "measurement: prints per-sub-goal figures"]
+fn measure_example_subgoals() {
+    let mut options = PlanOptions::default();
+    if let Ok(rounds) = std::env::var("AFFORD_REFINE_ROUNDS") {
+        options.timing.refine_rounds = rounds.parse().unwrap();
+    }
+    for f in afford_planner::timing::examples::measure_examples(&options) {
+        println!(
+            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4}  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({})",
+            f.example,
+            f.subgoal,
+            f.duration_s,
+            f.reference_s,
+            f.ratio_to_optimal,
+            f.timing_ms,
+            f.max_velocity_reversals,
+            f.reversal_joint,
+            f.peak_jerk,
+            f.jerk_joint
+        );
+    }
+}
+
+/// Dense IK-like waypoints (every 1–2 cm of joint space, with small
+/// waviness) gave ~1 grid segment per spline piece and durations up to 6 %
+/// above the optimum on the examples: refinement where a constraint binds
+/// brings the duration closer to the converged reference, never farther.
+#[test]
+fn dense_waypoints_refined_towards_the_converged_optimum() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let coarse = random_smooth_path(&mut rng, 7, 8);
+    let mut dense = Vec::new();
+    for (k, w) in coarse.windows(2).enumerate() {
+        for m in 0..40 {
+            let u = m as f64 / 40.0;
+            dense.push(
+                (0..7)
+                    .map(|j| {
+                        let wave = 2e-3 * ((k * 40 + m) as f64 * 0.7 + j as f64).sin();
+                        w[0][j] + u * (w[1][j] - w[0][j]) + wave
+                    })
+                    .collect::<Vec<f64>>(),
+            );
+        }
+    }
+    dense.push(coarse.last().unwrap().clone());
+    let limits = iiwa_limits();
+    let duration = |settings: TimingSettings| {
+        time_parameterize(&dense, &limits, None, &settings)
+            .unwrap()
+            .duration()
+            .unwrap()
+    };
+    let plain = duration(TimingSettings::default());
+    let refined = duration(TimingSettings {
+        refine_rounds: 1,
+        ..TimingSettings::default()
+    });
+    let reference = duration(afford_planner::timing::examples::reference_settings(
+        &TimingSettings::default(),
+    ));
+    println!("plain {plain} refined {refined} reference {reference}");
+    assert!(
+        reference <= refined * (1.0 + 1e-9),
+        "{reference} > {refined}"
+    );
+    assert!(refined <= plain * (1.0 + 1e-9), "{refined} > {plain}");
+    assert!(
+        refined - reference < 0.5 * (plain - reference),
+        "refinement gained too little: plain {plain}, refined {refined}, reference {reference}"
+    );
+}

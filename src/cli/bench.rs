@@ -17,8 +17,8 @@ use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
-    BenchCqlArgs, BenchIkArgs, BenchPipelineArgs, BenchSafetyArgs, BenchSeedArgs,
-    BenchTransitsArgs, ExitKind, Failure,
+    BenchCqlArgs, BenchIkArgs, BenchMonitorArgs, BenchPipelineArgs, BenchRoutesArgs,
+    BenchSafetyArgs, BenchSeedArgs, BenchTransitsArgs, ExitKind, Failure,
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
@@ -181,6 +181,29 @@ pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
     )
 }
 
+pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
+    if args.scenarios == 0 {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenarios must be at least 1",
+        ));
+    }
+    let bar = progress_bar(args.scenarios as u64, "scenes");
+    // Scenes in parallel, collected in scene order (thread count independent).
+    let measured: Vec<_> = (0..args.scenarios)
+        .into_par_iter()
+        .map(|k| {
+            let measured = afford_planner::bench::routes::run_scene(args.seed, k);
+            bar.inc(1);
+            measured
+        })
+        .collect();
+    bar.finish_and_clear();
+    let report =
+        afford_planner::bench::routes::RoutesReport::of(args.seed, args.scenarios, &measured);
+    print_report(&report, args.json)
+}
+
 /// Writes scenes `0..count` of the series `seed` as YAML scenario files.
 fn write_scenes(dir: &std::path::Path, seed: u64, count: usize) -> Result<(), Failure> {
     let fail = |e: String| {
@@ -236,4 +259,40 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
         ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar
+}
+
+pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
+    use afford_planner::bench::monitor::{MonitorBenchConfig, run};
+    if args.scenes == 0 {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenes must be at least 1",
+        ));
+    }
+    let bar = progress_bar(args.scenes as u64, "scenes");
+    let config = MonitorBenchConfig {
+        scenes: args.scenes,
+        seed: args.seed,
+    };
+    let report = run(&config, |done| bar.set_position(done as u64));
+    bar.finish_and_clear();
+    if args.json {
+        return print_report(&report, true);
+    }
+    let mut out = format!(
+        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms, physics failures {}\n",
+        report.relevant,
+        report.detected,
+        report.irrelevant,
+        report.false_triggers,
+        report.median_observe_us,
+        report.median_replan_ms,
+        report
+            .physics_failures
+            .map_or("not run".to_string(), |n| n.to_string()),
+    );
+    for (kind, [n, triggered]) in &report.kinds {
+        out += &format!("  {kind:<18} {n:>4} perturbations, {triggered:>4} triggered\n");
+    }
+    print(&out)
 }

@@ -1,12 +1,15 @@
 //! `afford check`: the independent gate (crate `afford-check`) over a plan
 //! file and its scenario. Exit 0 when the plan passes, 1 with violations
 //! (one line each on stdout: class, sub-goal, message), 2 when the scenario,
-//! the robot or the plan file cannot be read.
+//! the robot or the plan file cannot be read. `--physics` adds the physical
+//! replay (rapier3d) after the other checks: class `physics`, its time and
+//! what it found in a line on stderr.
 
 use std::io::Read;
 use std::path::Path;
 
 use afford_check::{MAX_PLAN_BYTES, PlanFile, check_plan, read_plan};
+use afford_collision::replay::ReplayReport;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
@@ -19,6 +22,9 @@ use super::{CheckArgs, ExitKind, Failure};
 struct JsonReport<'a> {
     passed: bool,
     violations: &'a [afford_check::Violation],
+    /// The physical replay's full report (`--physics` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    physics: Option<&'a ReplayReport>,
 }
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
@@ -26,12 +32,17 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let robot = RobotModel::load(&scenario.robot.model, &base_dir(Some(&args.scenario)))
         .map_err(|e| Failure::new(ExitKind::BadInput, format!("robot: {e}")))?;
     let plan = read_plan_file(&args.plan)?;
-    let report = check_plan(&scenario, &robot, &plan);
+    let mut report = check_plan(&scenario, &robot, &plan);
+    let replayed = match args.physics {
+        true => physics(&scenario, &robot, &plan, &mut report),
+        false => None,
+    };
     let text = match args.json {
         true => {
             let json = JsonReport {
                 passed: report.passed(),
                 violations: &report.violations,
+                physics: replayed.as_ref(),
             };
             let mut text = serde_json::to_string_pretty(&json)
                 .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
@@ -54,6 +65,32 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             format!("{name}: {n} violation(s)"),
         )),
     }
+}
+
+/// Runs the physical replay, adds its violations to `report` and returns
+/// its report (`None` when the plan could not be turned into motions).
+fn physics(
+    scenario: &afford_planner::Scenario,
+    robot: &RobotModel,
+    plan: &PlanFile,
+    report: &mut afford_check::Report,
+) -> Option<ReplayReport> {
+    let started = std::time::Instant::now();
+    let (replayed, found) = afford_check::physics::check_physics(scenario, robot, plan);
+    if let Some(r) = &replayed {
+        let moved = r.pieces.iter().filter(|p| p.moved).count();
+        let inside = r.targets.iter().filter(|t| t.in_goal).count();
+        eprintln!(
+            "physics: {} steps of {} ms in {:.0} ms: {inside} of {} pieces in their goal, {moved} other piece(s) moved, {} contact(s)",
+            r.steps,
+            r.step * 1e3,
+            started.elapsed().as_secs_f64() * 1e3,
+            r.targets.len(),
+            r.contacts.len()
+        );
+    }
+    report.violations.extend(found.violations);
+    replayed
 }
 
 /// Reads at most [`MAX_PLAN_BYTES`] (+1 to tell a larger file) and parses it.

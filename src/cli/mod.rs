@@ -2,9 +2,13 @@
 
 mod bench;
 mod check;
+mod export;
 mod output;
 mod plan;
 mod robots;
+mod run;
+mod run_svg;
+mod summary;
 mod validate;
 
 use std::path::PathBuf;
@@ -30,9 +34,56 @@ pub enum Command {
     /// List the built-in robots with their arms, degrees of freedom and reach;
     /// `afford robots acm ROBOT` derives a robot's allowed-collision matrix.
     Robots(RobotsArgs),
+    /// Execute a scenario's plan against its observation timeline with the valid-policy detector: wait, slow, replan, take new work; writes the executed timeline and the event log.
+    Run(RunArgs),
     /// Run a benchmark.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Write the grid MDPs afford's learner solves (one JSON per sub-goal or generated scene; docs/mdp-export.md), for outside learners.
+    ExportMdp(ExportMdpArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ExportMdpArgs {
+    /// Scenario file: one MDP per sub-goal, on the scene as it is now; omitted (and no --generated): the built-in default scenario.
+    #[arg(conflicts_with = "generated")]
+    pub scenario: Option<PathBuf>,
+    /// Export scenes 0..N of the benchmark's generator instead (the scenes of `afford bench cql`).
+    #[arg(long, value_name = "N")]
+    pub generated: Option<usize>,
+    /// Seed of the generated series and of afford's learner.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// With --generated: also record CQL's and QL's training steps, wall and CPU time (not reproducible byte for byte).
+    #[arg(long)]
+    pub learner_stats: bool,
+    /// Folder to write the files to (created when missing).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scenario file with an optional `observations:` timeline; omitted: the built-in default scenario.
+    pub scenario: Option<PathBuf>,
+    /// Seed for every random choice; same scenario + seed gives byte-identical output (without --timings).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output format (csv: one row per executed sample).
+    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
+    pub format: OutputFormat,
+    /// Write the executed run to this file instead of standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Also draw the executed run and its events as an SVG picture.
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<PathBuf>,
+    /// Controller sampling rate, Hz.
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Add each decision's wall-clock time (µs) and replan time (ms) to the events: the output is then no longer reproducible.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -42,9 +93,10 @@ pub struct PlanArgs {
     /// Seed for every random choice; same scenario + same seed gives byte-identical output.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
-    pub format: OutputFormat,
+    /// Output format [default: summary on a terminal, json when piped or
+    /// written with -o].
+    #[arg(long, value_enum)]
+    pub format: Option<OutputFormat>,
     /// Write the plan to this file instead of standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -92,6 +144,11 @@ pub struct CheckArgs {
     /// Print the verdict and every violation as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Also replay the plan physically (rapier3d): pieces pushed or dropped
+    /// outside their goal and links touching a hand, the table or a piece are
+    /// `physics` violations.
+    #[arg(long)]
+    pub physics: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -140,6 +197,8 @@ pub enum OutputFormat {
     Yaml,
     /// One row per trajectory sample.
     Csv,
+    /// A few lines for a person (`afford plan` only).
+    Summary,
 }
 
 #[derive(Debug, Subcommand)]
@@ -158,6 +217,10 @@ pub enum BenchCommand {
     Safety(BenchSafetyArgs),
     /// Care-O-bot campaign scenes: each sub-goal planned alone, then the instruction chained.
     Transits(BenchTransitsArgs),
+    /// Planned tool routes on the safety campaign's scenes against the shortest any-angle paths around the perimeters.
+    Routes(BenchRoutesArgs),
+    /// The valid-policy detector on seeded planned scenes: relevant and irrelevant perturbations (by construction), detections, false triggers, decision and replan times.
+    Monitor(BenchMonitorArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -166,6 +229,32 @@ pub struct BenchTransitsArgs {
     #[arg(long, default_value_t = 200)]
     pub scenes: usize,
     /// Seed of the scene series (the safety campaign's).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchRoutesArgs {
+    /// Number of generated scenes (the safety campaign's series).
+    #[arg(long, default_value_t = 200)]
+    pub scenarios: usize,
+    /// Seed of the scene series.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchMonitorArgs {
+    /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
+    #[arg(long, default_value_t = afford_planner::bench::monitor::MonitorBenchConfig::default().scenes)]
+    pub scenes: usize,
+    /// Seed of the scene series.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print the report as JSON.
@@ -272,6 +361,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         }) => robots::acm(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Run(args) => run::run(&args),
         Command::Bench(BenchCommand::Cql(args)) => bench::cql(&args),
         Command::Bench(BenchCommand::Ik(args)) => bench::ik(&args),
         Command::Bench(BenchCommand::Collision(args)) => bench::collision(&args),
@@ -279,5 +369,8 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
         Command::Bench(BenchCommand::Transits(args)) => bench::transits(&args),
+        Command::ExportMdp(args) => export::run(&args),
+        Command::Bench(BenchCommand::Routes(args)) => bench::routes(&args),
+        Command::Bench(BenchCommand::Monitor(args)) => bench::monitor(&args),
     }
 }

@@ -11,7 +11,7 @@ use super::{ExitKind, Failure, OutputFormat};
 pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, Failure> {
     let text = match format {
         OutputFormat::Json => serde_json::to_string_pretty(value).map_err(|e| e.to_string()),
-        OutputFormat::Yaml | OutputFormat::Csv => {
+        OutputFormat::Yaml | OutputFormat::Csv | OutputFormat::Summary => {
             serde_saphyr::to_string(value).map_err(|e| e.to_string())
         }
     };

@@ -3,9 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use afford_kinematics::RobotModel;
+use afford_planner::plan::UnsolvedSubgoal;
 use afford_planner::scenario::{self, Scenario, bounds};
 use afford_planner::timing::TimingSettings;
-use afford_planner::{PlanError, PlanOptions, plan};
+use afford_planner::{Plan, PlanError, PlanOptions, plan};
 
 use super::output::{emit, render, render_csv};
 use super::{ExitKind, Failure, OutputFormat, PlanArgs};
@@ -28,25 +29,45 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         },
         ..PlanOptions::default()
     };
-    let plan = plan(&scenario, &options).map_err(|e| match e {
-        PlanError::Scenario(_) | PlanError::Robot(_) => {
-            Failure::new(ExitKind::BadInput, e.to_string())
+    let plan = match plan(&scenario, &options) {
+        Ok(plan) => plan,
+        Err(PlanError::Unsolvable { reasons, unsolved }) => {
+            // Nothing planned: no plan is printed, but the picture shows
+            // the scene and why each sub-goal failed.
+            if let Some(svg) = &args.svg {
+                draw(
+                    &scenario,
+                    &nothing_planned(&scenario, &options, unsolved),
+                    &robot,
+                    svg,
+                )?;
+            }
+            let e = PlanError::Unsolvable {
+                reasons,
+                unsolved: Vec::new(),
+            };
+            return Err(Failure::new(ExitKind::CouldNotPlan, e.to_string()));
         }
-        PlanError::RobotState { .. } => {
-            Failure::new(ExitKind::BadInput, format!("{}: {e}", scenario_file(args)))
+        Err(e) => {
+            return Err(match e {
+                PlanError::Scenario(_) | PlanError::Robot(_) | PlanError::Options { .. } => {
+                    Failure::new(ExitKind::BadInput, e.to_string())
+                }
+                PlanError::RobotState { .. } => {
+                    Failure::new(ExitKind::BadInput, format!("{}: {e}", scenario_file(args)))
+                }
+                _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
+            });
         }
-        _ => Failure::new(ExitKind::CouldNotPlan, e.to_string()),
-    })?;
-    let text = match args.format {
+    };
+    let text = match format(args) {
         OutputFormat::Csv => render_csv(&plan)?,
+        OutputFormat::Summary => super::summary::summary(&plan),
         format => render(&plan, format)?,
     };
     emit(&text, args.output.as_deref())?;
     if let Some(svg) = &args.svg {
-        let picture = afford::picture::plan_svg(&scenario, &plan, Some(&robot)).map_err(|e| {
-            Failure::new(ExitKind::CouldNotPlan, format!("cannot draw the plan: {e}"))
-        })?;
-        emit(&picture, Some(svg))?;
+        draw(&scenario, &plan, &robot, svg)?;
     }
     for note in &plan.skipped {
         eprintln!("afford: left where it is: {note}");
@@ -68,12 +89,47 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     ))
 }
 
-/// The folder a scenario's relative paths start from: the file's folder.
+/// Writes the picture of `plan` to `svg`.
+fn draw(scenario: &Scenario, plan: &Plan, robot: &RobotModel, svg: &Path) -> Result<(), Failure> {
+    let picture = afford::picture::plan_svg(scenario, plan, Some(robot))
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    emit(&picture, Some(svg))
+}
+
+/// The plan of a scenario none of whose sub-goals could be planned.
+fn nothing_planned(
+    scenario: &Scenario,
+    options: &PlanOptions,
+    unsolved: Vec<UnsolvedSubgoal>,
+) -> Plan {
+    Plan {
+        scenario: scenario.name.clone().unwrap_or_default(),
+        seed: options.seed,
+        until: options.until,
+        start_state: None,
+        skipped: Vec::new(),
+        subgoals: Vec::new(),
+        unsolved,
+        timings: Default::default(),
+    }
+}
+
+/// `--format`, else the summary for a person at a terminal and JSON for a
+/// program (stdout piped or redirected, or `-o FILE`).
+fn format(args: &PlanArgs) -> OutputFormat {
+    use std::io::IsTerminal;
+    match args.format {
+        Some(format) => format,
+        None if args.output.is_none() && std::io::stdout().is_terminal() => OutputFormat::Summary,
+        None => OutputFormat::Json,
+    }
+}
+
+/// The folder a scenario's relative paths start from: the file's folder
+/// (the library's rule, [`scenario::base_dir`]); the current directory for
+/// the built-in scenario.
 pub fn base_dir(scenario: Option<&Path>) -> PathBuf {
-    scenario
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default()
+    scenario.map_or_else(|| PathBuf::from("."), scenario::base_dir)
 }
 
 /// The scenario's robot (`robot.model`), loaded as `plan` would: an unknown

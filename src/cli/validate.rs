@@ -7,7 +7,7 @@ use afford_planner::PlanError;
 use afford_planner::grid::{GridRequest, StateGrid};
 use afford_planner::instruction::{Interpretation, interpret, subgoals};
 use afford_planner::lift::LiftSettings;
-use afford_planner::scenario::Scenario;
+use afford_planner::scenario::{PixelBox, Scenario};
 use afford_planner::start::{self, FirstSubgoal};
 
 use super::output::print;
@@ -18,13 +18,56 @@ pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
     let scenario = load(args.scenario.as_deref())?;
     let robot = load_robot(&scenario, args.scenario.as_deref())?;
     let gripper = gripper_pixel(&scenario, &robot, args)?;
-    print(&explain(&scenario, &robot, gripper, args.seed))
+    print(&explain(&scenario, &robot, gripper, args.seed))?;
+    // The scene is valid but the instruction cannot be executed: exit 1,
+    // as `afford plan` does.
+    interpret(&scenario, args.seed)
+        .map(|_| ())
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))
+}
+
+/// The share of the image a box grown by `margin_m` on every side covers
+/// (clipped to the image), 0 to 1: how much of the table a perimeter takes.
+fn perimeter_share(s: &Scenario, b: PixelBox, margin_m: f64) -> f64 {
+    let [mu, mv] = s.metres_per_pixel();
+    let (w, h) = (f64::from(s.camera.width), f64::from(s.camera.height));
+    let span = |lo: f64, len: f64, grow: f64, size: f64| {
+        ((lo + len + grow).min(size) - (lo - grow).max(0.0)).max(0.0)
+    };
+    let along_u = span(b.u, b.w, margin_m / mu, w);
+    let along_v = span(b.v, b.l, margin_m / mv, h);
+    along_u * along_v / (w * h)
+}
+
+/// One line per perimeter (every hand, every sensitive object): its width
+/// in pixels and the share of the table it covers.
+fn perimeter_lines(s: &Scenario, out: &mut String) {
+    let [mu, mv] = s.metres_per_pixel();
+    let mut line = |what: &str, b: PixelBox, margin: f64| {
+        let _ = writeln!(
+            out,
+            "  {what}: perimeter {margin:.3} m (≈{:.0} px along u, ≈{:.0} px along v) covers {:.0}% of the table",
+            margin / mu,
+            margin / mv,
+            100.0 * perimeter_share(s, b, margin)
+        );
+    };
+    for h in &s.hands {
+        line(&format!("hand {}", h.name), h.bbox, s.safety.hand_margin);
+    }
+    for o in s.objects.iter().filter(|o| s.is_sensitive(o)) {
+        line(
+            &format!("sensitive {}", o.name),
+            o.bbox,
+            s.safety.sensitive_margin,
+        );
+    }
 }
 
 /// Where the gripper is in the image: `robot.start` when it is given alone;
 /// otherwise from `robot.joints` (checked against the robot) or the home
 /// rule, as `afford plan` does (bad input: exit 2, field named).
-fn gripper_pixel(
+pub(super) fn gripper_pixel(
     s: &Scenario,
     robot: &RobotModel,
     args: &ValidateArgs,
@@ -124,6 +167,7 @@ fn explain(s: &Scenario, robot: &RobotModel, gripper: [f64; 2], seed: u64) -> St
         m.hand_margin,
         px(m.hand_margin)
     );
+    perimeter_lines(s, &mut out);
     let _ = writeln!(out, "instruction: \"{}\"", s.instruction);
     match interpret(s, seed) {
         Err(e) => {

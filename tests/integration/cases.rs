@@ -8,7 +8,10 @@
 //!   across it.
 //! - Every released object rests wholly inside its goal's inner walls, where
 //!   the gripper really opened (forward kinematics of the trajectory), apart
-//!   from the pieces already there; a full goal is refused.
+//!   from the pieces already there; a full goal is refused; pieces as tall
+//!   as the wall pack by their own footprint (the fingers pass over them).
+//! - A grasp whose open fingers would straddle a close neighbour is turned
+//!   a quarter when the object's other side fits the opening.
 
 use afford::collision::{
     BoxKind, CheckSettings, DenseSettings, GOAL_WALL, PathOptions, RobotGeometry, Scene, SceneSpec,
@@ -36,7 +39,7 @@ fn robot(s: &Scenario) -> (RobotModel, RobotGeometry) {
 /// The reasons of a plan whose every sub-goal was refused.
 fn refusals(result: Result<Plan, PlanError>) -> Vec<String> {
     match result {
-        Err(PlanError::Unsolvable { reasons }) => reasons,
+        Err(PlanError::Unsolvable { reasons, .. }) => reasons,
         other => panic!("expected every sub-goal refused, got {other:?}"),
     }
 }
@@ -240,4 +243,46 @@ fn goal_full_is_refused() {
     assert_eq!(p.unsolved.len(), 1, "{:?}", p.unsolved);
     assert_eq!(p.unsolved[0].object, "blue-square-2");
     assert_eq!(p.unsolved[0].reason, "left box is full");
+}
+
+/// The independent checker's verdict on a plan, in memory.
+fn independent_check(s: &Scenario, p: &Plan) -> Vec<String> {
+    let (model, _) = robot(s);
+    let file = afford::check::PlanFile::from(p);
+    afford::check::check_plan(s, &model, &file)
+        .violations
+        .iter()
+        .map(|v| v.message.clone())
+        .collect()
+}
+
+#[test]
+fn grasp_turns_the_open_fingers_away_from_a_close_neighbour() {
+    let s = case("grasp-fingers-straddle-neighbour");
+    let p = plan(&s, &PlanOptions::default()).expect("the turned grasp plans");
+    let m = s.camera.pixel_to_base;
+    let along_u = m[1][0].atan2(m[0][0]);
+    let motion = p.subgoals[0].waypoints.as_ref().unwrap();
+    let grasp = motion.gripper_switches().0;
+    let turned = (motion.waypoints[grasp].yaw - along_u).rem_euclid(std::f64::consts::PI);
+    assert!(
+        (turned - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "the fingers close across v, towards the neighbour: {turned}"
+    );
+    assert_eq!(independent_check(&s, &p), Vec::<String>::new());
+}
+
+#[test]
+fn place_pieces_as_tall_as_the_wall_pack_by_their_own_footprint() {
+    let s = case("place-pieces-as-tall-as-the-wall");
+    let p = plan(&s, &PlanOptions::default()).expect("every piece plans");
+    assert!(p.unsolved.is_empty(), "{:?}", p.unsolved);
+    let placed = released_inside(&s, &p);
+    assert_eq!(placed.len(), 3);
+    for (i, (_, a)) in placed.iter().enumerate() {
+        for (_, b) in &placed[i + 1..] {
+            assert!(!overlap(a, b), "{a:?} overlaps {b:?}");
+        }
+    }
+    assert_eq!(independent_check(&s, &p), Vec::<String>::new());
 }

@@ -90,6 +90,7 @@ fn scene(instruction: &str, pointing: Option<[f64; 2]>) -> Scenario {
         instruction: instruction.into(),
         pointing,
         learner: LearnerSettings::default(),
+        observations: Vec::new(),
     }
 }
 

@@ -1,13 +1,20 @@
 //! afford's integration tests: one test binary (ripgrep's layout) with a
 //! module per topic. Fixtures live in tests/fixtures/.
 
+mod api;
 mod cases;
 mod check;
 mod cli;
 mod cql_properties;
 mod examples;
+mod export_mdp;
+mod features;
 mod instructions;
+mod monitor;
+mod physics;
 mod pipeline;
+mod plan_output;
+mod refusals;
 mod safety;
 mod scenario_errors;
 mod transits;

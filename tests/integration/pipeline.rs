@@ -145,6 +145,35 @@ fn pipeline_bench_reports_every_stage() {
             "{stage}"
         );
     }
+    // The task's trajectory time: three gripper closes and opens of 0.5 s
+    // each separate the moving time from the total.
+    let moving = report["task_duration_s"].as_f64().expect("moving time");
+    let total = report["task_total_s"].as_f64().expect("total time");
+    assert!(
+        moving > 0.0 && (total - moving - 3.0).abs() < 1e-9,
+        "{moving} {total}"
+    );
+    let per_subgoal: f64 = report["subgoal_durations_s"]
+        .as_array()
+        .expect("per sub-goal")
+        .iter()
+        .map(|d| d["moving"].as_f64().expect("moving"))
+        .sum();
+    assert!((per_subgoal - moving).abs() < 1e-9);
+}
+
+#[test]
+fn routes_bench_reports_ratios_to_the_oracle() {
+    let report = afford(&["bench", "routes", "--scenarios", "6", "--json"])
+        .assert_code(0)
+        .json();
+    assert_eq!(report["scenes"].as_u64(), Some(6));
+    let subgoals = report["subgoals"].as_u64().expect("sub-goals");
+    assert!(subgoals > 0, "{report}");
+    let mean = report["mean_path_over_shortest"].as_f64().expect("mean");
+    let max = report["max_path_over_shortest"].as_f64().expect("max");
+    assert!((1.0 - 1e-9..=max).contains(&mean), "{mean} {max}");
+    afford(&["bench", "routes", "--scenarios", "0"]).assert_code(2);
 }
 
 // ---- The robot's state at t = 0 (issue 8, kinds 7 and 10) ----

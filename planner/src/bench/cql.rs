@@ -1,5 +1,6 @@
 //! `afford bench cql`: CQL and plain QL on seeded scenes, measured against the
-//! BFS oracle, summarised like the paper's Table 1.
+//! BFS oracle, summarised like the paper's Table 1; and the export of the
+//! same scenes' MDPs (`afford export-mdp --generated`) for the deep-RL rows.
 
 use std::time::Instant;
 
@@ -7,8 +8,10 @@ use serde::Serialize;
 
 use super::{generator, mean, median};
 use crate::cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
+use crate::export::{ExportMeta, LearnerRun, LearnerStats, MdpExport};
 use crate::grid::{GridRequest, StateGrid};
 use crate::oracle;
+use crate::scenario::Scenario;
 use crate::task::GridTask;
 
 /// Benchmark parameters.
@@ -111,22 +114,13 @@ pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBench
         ..Default::default()
     };
     for index in 0..config.scenarios {
-        let scene = generator::scene(config.seed, index);
-        let request = GridRequest {
-            object: 0,
-            goal: 0,
-            gripper: scene
-                .robot
-                .start
-                .expect("generated scenes give robot.start"),
-        };
-        let grid = StateGrid::build(&scene, request);
+        let (_, grid) = generated_grid(config.seed, index);
         report.cells_min = report.cells_min.min(grid.len());
         report.cells_max = report.cells_max.max(grid.len());
         let task = GridTask::new(grid.clone());
         if let Some(optimal) = oracle::optimal_length(&task) {
             report.solvable += 1;
-            let seed = config.seed.wrapping_add(index as u64);
+            let seed = learner_seed(config.seed, index);
             for (learner, sample) in learners.iter().zip(&mut samples) {
                 let (plan, ms) = timed(|| learner.learn(&GridTask::new(grid.clone()), seed));
                 sample.record(&plan, ms, optimal);
@@ -137,6 +131,84 @@ pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBench
     [report.cql, report.ql, report.cql_paper, report.ql_paper] =
         samples.map(|s| s.summary(report.solvable));
     report
+}
+
+/// Scene `index` of the seeded series `seed` and its grid: the one object
+/// into the one goal, the gripper at `robot.start`.
+pub fn generated_grid(seed: u64, index: usize) -> (Scenario, StateGrid) {
+    let scene = generator::scene(seed, index);
+    let request = GridRequest {
+        object: 0,
+        goal: 0,
+        gripper: scene
+            .robot
+            .start
+            .expect("generated scenes give robot.start"),
+    };
+    let grid = StateGrid::build(&scene, request);
+    (scene, grid)
+}
+
+/// The learners' seed on scene `index` of the series `seed`.
+pub fn learner_seed(seed: u64, index: usize) -> u64 {
+    seed.wrapping_add(index as u64)
+}
+
+/// The MDP export of generated scene `index` (`afford export-mdp
+/// --generated`), with afford's CQL plan learned exactly as this benchmark
+/// does; with `stats`, also the training steps and times of both learners
+/// with the scene's settings and with the authors' schedule (the CQL run
+/// measured is the one exported).
+pub fn generated_export(seed: u64, index: usize, stats: bool) -> MdpExport {
+    let (scene, grid) = generated_grid(seed, index);
+    let meta = ExportMeta {
+        name: scene.name.clone().unwrap_or_default(),
+        object: scene.objects[0].name.clone(),
+        goal: scene.goals[0].name.clone(),
+        seed: learner_seed(seed, index),
+    };
+    let settings = &scene.learner;
+    let cql = Learner::Contextual(ContextualQLearner::new(settings.clone()));
+    let (plan, cql_run) = measured(&cql, &grid, meta.seed);
+    let mut export = MdpExport::of(meta, &GridTask::new(grid.clone()), settings, &plan);
+    if stats {
+        let run = |learner: Learner| measured(&learner, &grid, export.seed).1;
+        export.learners = Some(LearnerStats {
+            cql: cql_run,
+            ql: run(Learner::Plain(QLearner::new(settings.clone()))),
+            cql_paper: run(Learner::Contextual(ContextualQLearner::new(
+                LearnerSettings::paper(),
+            ))),
+            ql_paper: run(Learner::Plain(QLearner::new(LearnerSettings::paper()))),
+        });
+    }
+    export
+}
+
+/// One training run on a fresh task built from `grid`, with its wall and
+/// CPU time (the task's tables included, as in the benchmark).
+fn measured(learner: &Learner, grid: &StateGrid, seed: u64) -> (LearnedPlan, LearnerRun) {
+    let cpu = thread_cpu_ms();
+    let (plan, wall_ms) = timed(|| learner.learn(&GridTask::new(grid.clone()), seed));
+    let cpu_ms = cpu.zip(thread_cpu_ms()).map(|(a, b)| b - a);
+    let run = LearnerRun {
+        plan: (&plan).into(),
+        wall_ms,
+        cpu_ms,
+    };
+    (plan, run)
+}
+
+/// CPU time of the calling thread so far, milliseconds
+/// (`CLOCK_THREAD_CPUTIME_ID`, Linux); `None` elsewhere.
+fn thread_cpu_ms() -> Option<f64> {
+    #[cfg(target_os = "linux")]
+    {
+        let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+        Some(t.tv_sec as f64 * 1e3 + t.tv_nsec as f64 / 1e6)
+    }
+    #[cfg(not(target_os = "linux"))]
+    None
 }
 
 enum Learner {

@@ -173,6 +173,7 @@ fn layout(rng: &mut ChaCha8Rng, [m, n]: [usize; 2], name: String) -> Scenario {
         safety: Safety::default(),
         instruction: "put the target in the goal".into(),
         pointing: None,
+        observations: Vec::new(),
         learner: LearnerSettings::default(),
     }
 }

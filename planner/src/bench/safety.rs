@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
-use super::refusal::{REFUSAL_KINDS, refusal_kind};
+use super::refusal::{REFUSAL_KINDS, error_refusals};
 use super::scenes;
 use crate::error::PlanError;
 use crate::plan::{Plan, PlanOptions};
@@ -344,11 +344,7 @@ pub fn run_scene(
     let plan = match crate::plan::plan(&scenario, &PlanOptions::default()) {
         Ok(plan) => plan,
         Err(e) => {
-            let reasons = match e {
-                PlanError::Unsolvable { reasons } => reasons,
-                other => vec![other.to_string()],
-            };
-            outcome.refusals = reasons.into_iter().map(|r| (refusal_kind(&r), r)).collect();
+            outcome.refusals = error_refusals(&e);
             return outcome;
         }
     };
@@ -361,7 +357,7 @@ pub fn run_scene(
         .iter()
         .map(|u| {
             let text = format!("{} → {}: {}", u.object, u.goal, u.reason);
-            (refusal_kind(&u.reason), text)
+            (u.refusal.kind(), text)
         })
         .collect();
     outcome.trajectories = plan

@@ -13,17 +13,16 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::refusal::refusal_kind;
+use super::refusal::error_refusals;
 use super::scenes;
-use crate::error::PlanError;
 use crate::instruction::work;
 use crate::plan::{PlanOptions, Planner, StageTimings};
 
 /// The robot whose scenes are measured.
 pub const ROBOT: &str = "care_o_bot4";
 
-/// How a transit refusal starts (plan.rs: no arm has a collision-free transit).
-pub const TRANSIT_REFUSAL: &str = "no collision-free transit";
+/// The kind of a transit refusal ([`crate::error::Refusal::NoTransit`]).
+pub const TRANSIT_REFUSAL: &str = "no_transit";
 
 /// One scene's outcome.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -71,21 +70,20 @@ pub fn run_scene(seed: u64, index: usize) -> SceneTransits {
                 .is_ok_and(|p| p.unsolved.is_empty())
         })
         .count();
-    let reasons: Vec<String> = match planner.plan(&scenario) {
-        Ok(plan) => plan.unsolved.into_iter().map(|u| u.reason).collect(),
-        Err(PlanError::Unsolvable { reasons }) => reasons,
-        Err(other) => vec![other.to_string()],
+    let refusals: Vec<&'static str> = match planner.plan(&scenario) {
+        Ok(plan) => plan.unsolved.iter().map(|u| u.refusal.kind()).collect(),
+        Err(e) => error_refusals(&e)
+            .into_iter()
+            .map(|(kind, _)| kind)
+            .collect(),
     };
     SceneTransits {
         index,
         subgoals: goals.len(),
         alone,
-        chained: goals.len().saturating_sub(reasons.len()),
-        refusals: reasons.iter().map(|r| refusal_kind(r)).collect(),
-        transit_refusals: reasons
-            .iter()
-            .filter(|r| r.starts_with(TRANSIT_REFUSAL))
-            .count(),
+        chained: goals.len().saturating_sub(refusals.len()),
+        transit_refusals: refusals.iter().filter(|&&k| k == TRANSIT_REFUSAL).count(),
+        refusals,
     }
 }
 

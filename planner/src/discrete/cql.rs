@@ -119,6 +119,28 @@ impl LearnerSettings {
         }
     }
 
+    /// Steps before an episode restarts from the start on `task`:
+    /// `episode_steps`, or 4·(n + m) + 16 when it is 0 (automatic).
+    pub fn episode_length(&self, task: &GridTask) -> usize {
+        match self.episode_steps {
+            0 => 4 * (task.grid.rows + task.grid.cols) + 16,
+            n => n,
+        }
+    }
+
+    /// The reward r(s, a) of taking `a` with the given outcome: the terminal
+    /// DROP, a refused action (plain QL only: the agent stays), GRASP, GOAL
+    /// or a displacement.
+    pub fn reward(&self, a: Action, outcome: Outcome) -> f64 {
+        match (outcome, a) {
+            (Outcome::Done, _) => self.reward_drop,
+            (Outcome::Refused, _) => self.reward_refused,
+            (Outcome::Moved(_), Action::Grasp) => self.reward_grasp,
+            (Outcome::Moved(_), Action::Goal) => self.reward_goal,
+            (Outcome::Moved(_), _) => self.reward_move,
+        }
+    }
+
     /// Problems with the settings, field names relative to the struct.
     pub fn validate(&self) -> Vec<FieldIssue> {
         let mut issues = Vec::new();
@@ -262,10 +284,7 @@ impl<'a> Training<'a> {
     }
 
     fn run(mut self) -> LearnedPlan {
-        let episode_steps = match self.settings.episode_steps {
-            0 => 4 * (self.task.grid.rows + self.task.grid.cols) + 16,
-            n => n,
-        };
+        let episode_steps = self.settings.episode_length(self.task);
         let (mut steps, mut stable, mut converged) = (0, 0, false);
         let mut previous: Option<Vec<Action>> = None;
         while steps < self.settings.max_steps && !converged {
@@ -318,19 +337,13 @@ impl<'a> Training<'a> {
 
     /// Reward and next state; `None` after the terminal DROP.
     fn transition(&self, s: AgentState, a: Action) -> (f64, Option<AgentState>) {
-        let st = self.settings;
-        match self.task.step(s, a) {
-            Outcome::Done => (st.reward_drop, None),
-            Outcome::Refused => (st.reward_refused, Some(s)),
-            Outcome::Moved(next) => {
-                let r = match a {
-                    Action::Grasp => st.reward_grasp,
-                    Action::Goal => st.reward_goal,
-                    _ => st.reward_move,
-                };
-                (r, Some(next))
-            }
-        }
+        let outcome = self.task.step(s, a);
+        let next = match outcome {
+            Outcome::Done => None,
+            Outcome::Refused => Some(s),
+            Outcome::Moved(next) => Some(next),
+        };
+        (self.settings.reward(a, outcome), next)
     }
 
     /// Equation (11), or Q ← r on the terminal transition.

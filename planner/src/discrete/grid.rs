@@ -18,7 +18,7 @@
 //!   box that is an obstacle for the next sub-goal), that connected obstacle
 //!   region is cleared: the gripper is above it and must be able to leave.
 
-use crate::place::{NoSpot, release_spot};
+use crate::place::{NoSpot, Release, release_spot};
 use crate::scenario::{PixelBox, Scenario};
 
 /// The semantic code of a cell, with the paper's numeric values.
@@ -73,8 +73,9 @@ pub struct StateGrid {
     /// resting spot. `None` when no spot is left.
     pub drop: Option<Cell>,
     /// Pixel (u, v) where the object is released and comes to rest, inside
-    /// the drop cell ([`crate::place`]), or why no spot is left.
-    pub release: Result<[f64; 2], NoSpot>,
+    /// the drop cell, with its release floor ([`crate::place`]), or why no
+    /// spot is left.
+    pub release: Result<Release, NoSpot>,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -126,7 +127,7 @@ impl StateGrid {
         grid.release = release_spot(scenario, req.object, req.goal, opening, |p| {
             grid.code(grid.cell_at(p)) == CellCode::Goal
         });
-        grid.drop = grid.release.ok().map(|p| grid.cell_at(p));
+        grid.drop = grid.release.ok().map(|r| grid.cell_at(r.spot));
         grid
     }
 
@@ -313,7 +314,13 @@ impl StateGrid {
                 goals.iter().map(|p| p[1]).sum::<f64>() / n,
             ];
             grid.drop = grid.nearest_goal_cell(centroid);
-            grid.release = grid.drop.map(|c| grid.centre(c)).ok_or(NoSpot::Covered);
+            grid.release = grid
+                .drop
+                .map(|c| Release {
+                    spot: grid.centre(c),
+                    floor: 0.0,
+                })
+                .ok_or(NoSpot::Covered);
         }
         Some(grid)
     }

@@ -89,11 +89,11 @@ pub(super) const GENERIC_PLURAL: &[&str] = &[
 /// "the rest", "the others", "everything else", "the remaining ones".
 pub(super) const REST: &[&str] = &["rest", "others", "other", "remaining", "else"];
 pub(super) const EVERYTHING: &[&str] = &["everything", "anything"];
-pub(super) const COLOURS: &[&str] = &[
+pub(crate) const COLOURS: &[&str] = &[
     "red", "green", "blue", "yellow", "orange", "purple", "pink", "black", "white", "grey", "gray",
     "brown", "cyan", "magenta", "violet",
 ];
-pub(super) const SHAPES: &[&str] = &[
+pub(crate) const SHAPES: &[&str] = &[
     "square",
     "cube",
     "hexagon",

@@ -19,7 +19,7 @@
 
 mod clause;
 mod guard;
-mod lexicon;
+pub(crate) mod lexicon;
 mod resolve;
 mod tokens;
 

@@ -19,7 +19,7 @@ use afford_kinematics::RobotModel;
 
 use crate::geometry::{scene_box, scene_spec};
 use crate::lift::GripperReach;
-use crate::scenario::Scenario;
+use crate::scenario::{PixelBox, Scenario};
 
 /// Height of the held object's bottom slice that may touch its support, m.
 pub const SUPPORT_GAP: f64 = 0.002;
@@ -37,6 +37,10 @@ pub struct ArmMotion<'a> {
     /// Path indices where the gripper closes and opens.
     pub grasp_at: usize,
     pub release_at: usize,
+    /// An object already held when the path starts (a replan while
+    /// carrying): its box where it was grasped and the arm's configuration
+    /// then, which fix its pose in the gripper. `grasp_at` is then 0.
+    pub held: Option<(PixelBox, &'a [f64])>,
 }
 
 /// A hit on the path: the path index nearest to it and what hit what.
@@ -58,24 +62,30 @@ pub fn check_motion(
     let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
     let object = &m.scenario.objects[m.target];
     let arm = robot.arm(m.arm).map_err(|e| e.to_string())?;
+    let (grasped_box, grasp) = m
+        .held
+        .unwrap_or((object.bbox, m.path[m.grasp_at].as_slice()));
     let full = scene_box(
         m.scenario,
         &object.name,
         BoxKind::Object,
-        object.bbox,
+        grasped_box,
         object.height,
         0.0,
     );
-    let grasp_pose = arm.fk(&m.path[m.grasp_at]);
+    let grasp_pose = arm.fk(grasp);
     let mut resting = full.clone();
     resting.size[2] -= SUPPORT_GAP;
     let on_table = Attachment::grasped(&resting, spec.table_z + SUPPORT_GAP, &grasp_pose);
     let held = Attachment::grasped(&full, spec.table_z, &grasp_pose);
     // The support slice is left out only until the object has left the table.
     let lift_z = grasp_pose.translation.vector.z + 2.0 * SUPPORT_GAP;
-    let lifted = (m.grasp_at..m.release_at)
-        .find(|&k| arm.fk(&m.path[k]).translation.vector.z >= lift_z)
-        .unwrap_or(m.release_at);
+    let lifted = match m.held {
+        Some(_) => m.grasp_at,
+        None => (m.grasp_at..m.release_at)
+            .find(|&k| arm.fk(&m.path[k]).translation.vector.z >= lift_z)
+            .unwrap_or(m.release_at),
+    };
     let options = PathOptions {
         arm: Some(m.arm.to_string()),
         ..PathOptions::default()

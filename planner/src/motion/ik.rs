@@ -14,6 +14,7 @@ use afford_kinematics::{
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::error::{ArmFailure, Refusal};
 use crate::lift::LiftedMotion;
 
 /// The IK targets of a lifted motion.
@@ -52,8 +53,9 @@ pub const IK_STARTS: [IkStart; 4] = [
 /// the robot's arm order). The arms are solved in the robot's order from one
 /// random stream seeded with `seed` (and the start's index). Each arm's IK
 /// starts as `start` says (another branch when the first one collides); the
-/// cost is from where the arm is either way. `Err` is the reason in words ("lift
-/// waypoint 3 unreachable for arm left: …", one part per arm).
+/// cost is from where the arm is either way. `Err` names each arm's first
+/// unreachable waypoint ([`Refusal::Unreachable`], [`Refusal::JointLimit`]),
+/// or a bad configuration or setting ([`Refusal::Internal`]).
 pub fn solve_motions(
     robot: &RobotModel,
     motion: &LiftedMotion,
@@ -61,16 +63,21 @@ pub fn solve_motions(
     settings: &PathSettings,
     seed: u64,
     start: IkStart,
-) -> Result<Vec<ArmChoice>, String> {
+) -> Result<Vec<ArmChoice>, Refusal> {
     if current.len() != robot.dof() {
-        return Err(format!(
-            "the robot configuration has {} values, {} has {} joints",
-            current.len(),
-            robot.name(),
-            robot.dof()
+        return Err(Refusal::internal(
+            "IK",
+            format!(
+                "the robot configuration has {} values, {} has {} joints",
+                current.len(),
+                robot.name(),
+                robot.dof()
+            ),
         ));
     }
-    settings.validate().map_err(|e| e.to_string())?;
+    settings
+        .validate()
+        .map_err(|e| Refusal::internal("IK", e))?;
     let stream = match start {
         IkStart::Random(k) => k.wrapping_add(1),
         _ => 0,
@@ -98,26 +105,23 @@ pub fn solve_motions(
         }
     }
     if choices.is_empty() {
-        return Err(unreachable(motion, &NoArmReaches { failures }));
+        return Err(unreachable(motion, NoArmReaches { failures }));
     }
     choices.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     Ok(choices)
 }
 
 /// Each arm's first unreachable waypoint, with its phase.
-fn unreachable(motion: &LiftedMotion, none: &NoArmReaches) -> String {
-    none.failures
-        .iter()
-        .map(|(arm, f)| {
-            let phase = motion
-                .waypoints
-                .get(f.index)
-                .map_or("?".to_string(), |w| format!("{:?}", w.phase).to_lowercase());
-            format!(
-                "{phase} waypoint {} unreachable for arm {arm}: {}",
-                f.index, f.reason
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
+fn unreachable(motion: &LiftedMotion, none: NoArmReaches) -> Refusal {
+    Refusal::unreachable(
+        none.failures
+            .into_iter()
+            .map(|(arm, f)| ArmFailure {
+                arm,
+                waypoint: f.index,
+                phase: motion.waypoints.get(f.index).map(|w| w.phase),
+                cause: f.reason,
+            })
+            .collect(),
+    )
 }

@@ -1,12 +1,16 @@
 //! Lifting a grid plan to 3-D tool waypoints in the robot base frame.
 //!
 //! Every cell maps to the table plane through the scenario's `pixel_to_base`
-//! and `table_z`. One sub-goal becomes: travel at carry height from the
-//! gripper's position to the target, descend to the approach height, then to
-//! the grasp height, close, lift, travel to the cell next to the goal, the
-//! GOAL macro over the box wall (through the entry cell to the drop cell),
-//! descend into the box, open, retreat to carry height. The tool points down
-//! throughout; its yaw puts the fingers across the object's shorter side.
+//! and `table_z`. One sub-goal becomes: travel at carry height from where
+//! the tool is (no detour through the start cell's centre) to the target,
+//! descend to the approach height, then to the grasp height, close, lift,
+//! carry to the resting spot in the goal, descend into the box, open,
+//! retreat to carry height. Both horizontal legs are the CQL cell path
+//! pulled taut into an any-angle route in the same homotopy class
+//! ([`crate::motion::route`]), then smoothed ([`crate::smooth`]). The tool
+//! points down throughout; its yaw puts the fingers across the object's
+//! shorter side. A tool that starts lower than the carry height rises
+//! first; one that starts higher descends along the route at 45°.
 //!
 //! Heights (metres above the table top, TCP = the grasp point):
 //! - grasp: half the object's height (the fingers close on its middle), but
@@ -18,11 +22,16 @@
 //!   when the fingertips then reach neither the object's middle nor
 //!   `min_grip_depth` below its top;
 //! - approach: grasp + `approach_clearance`;
-//! - carry: tallest thing on the table (objects, goal walls, hands) + the
-//!   held object's height + `carry_clearance`, so the held object's bottom
-//!   clears everything by at least `carry_clearance`;
+//! - carry: the tallest thing the route passes over (objects, goal walls,
+//!   hands, grown by their margins and the footprint; [`route_carry_height`])
+//!   plus the held object's height plus `carry_clearance`, so the held
+//!   object's bottom clears everything under it by at least
+//!   `carry_clearance`; never below the approach or release height. [`carry_height`] (the tallest
+//!   thing on the whole table) is the fallback after a collision;
 //! - release: the object's bottom `release_clearance` above the box's wall
-//!   top, exactly over its resting spot ([`crate::place`]). DROP opens the
+//!   top (or above the pieces already in the box that the open fingers
+//!   pass over, plus their margin: [`crate::place::Release::floor`]),
+//!   exactly over its resting spot ([`crate::place`]). DROP opens the
 //!   gripper over the box, as in the paper: the fingers never enter it, so a
 //!   box narrower than the open gripper still works.
 //!
@@ -32,9 +41,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::grid::Cell;
-use crate::scenario::{Object, Scenario};
-use crate::smooth::smooth_path;
+use crate::error::Refusal;
+use crate::grid::{Cell, StateGrid};
+use crate::motion::route::{crosses_open_box, taut};
+use crate::scenario::{Object, PixelBox, Scenario};
+use crate::smooth::smooth_route;
 use crate::task::{Action, GridTask};
 
 /// Heights and clearances of the lifted motion, metres.
@@ -168,25 +179,51 @@ impl LiftedMotion {
     }
 }
 
-/// Lifts a solved grid plan. `object` and `goal` index the scenario; `cells`
-/// is the plan's visited cells ([`crate::LearnedPlan::cells`]) and `actions`
-/// its actions. `Err` is why the gripper cannot take the object (too wide
-/// for its opening, too tall for a grip that keeps the palm clear).
-#[allow(clippy::too_many_arguments)]
+/// What [`lift`] lifts: the solved grid plan of one sub-goal and where the
+/// tool is when it starts.
+#[derive(Debug, Clone, Copy)]
+pub struct LiftRequest<'a> {
+    /// Index of the moved object in the scenario.
+    pub object: usize,
+    /// Index of the goal in the scenario.
+    pub goal: usize,
+    /// The plan's actions ([`crate::LearnedPlan::actions`]).
+    pub actions: &'a [Action],
+    /// The plan's visited cells ([`crate::LearnedPlan::cells`]).
+    pub cells: &'a [Cell],
+    /// Where the tool is, pixel (u, v): the route starts here.
+    pub start_px: [f64; 2],
+    /// The tool's height above the table when it points down over
+    /// `start_px` (metres); `None`: not known, the route starts at the
+    /// carry height.
+    pub start_height: Option<f64>,
+    /// Carry at the full height ([`carry_height`]: the tallest thing on the
+    /// whole table) instead of what the route passes over.
+    pub full_height: bool,
+}
+
+/// Lifts a solved grid plan: the CQL cells pulled taut into an any-angle
+/// route ([`crate::motion::route`]), smoothed ([`smooth_route`]), at the
+/// carry height the route needs ([`route_carry_height`]). `Err` is why the
+/// gripper cannot take the object (too wide for its opening, too tall for a
+/// grip that keeps the palm clear).
 pub fn lift(
     scenario: &Scenario,
     task: &GridTask,
-    object: usize,
-    goal: usize,
-    actions: &[Action],
-    cells: &[Cell],
+    request: &LiftRequest,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<LiftedMotion, String> {
+) -> Result<LiftedMotion, Refusal> {
     let grid = &task.grid;
+    let LiftRequest {
+        object,
+        goal,
+        actions,
+        cells,
+        ..
+    } = *request;
     let held = &scenario.objects[object];
     let table = scenario.camera.table_z;
-    let carry_height = carry_height(scenario, object, settings);
     let (yaw, grasp) = grasp_pose(scenario, held, gripper, settings)?;
     let grasp_at = actions
         .iter()
@@ -196,8 +233,30 @@ pub fn lift(
         .iter()
         .position(|&a| a == Action::Goal)
         .unwrap_or(actions.len());
-    let to_target = &cells[..=grasp_at];
-    let to_goal = &cells[grasp_at + 1..=goal_at];
+    let centres = |leg: &[Cell]| leg.iter().map(|&c| grid.centre(c)).collect::<Vec<_>>();
+    let mut to_target = vec![request.start_px];
+    to_target.extend(centres(&cells[..=grasp_at]));
+    let mut to_goal = centres(&cells[grasp_at..=goal_at]);
+    let near = cells[goal_at];
+    let drop = grid.drop.unwrap_or(near);
+    if let Some(entry) = task.goal_entry(near).filter(|&e| e != drop) {
+        to_goal.push(grid.centre(entry));
+    }
+    let (drop_px, floor) = match grid.release {
+        Ok(r) => (r.spot, r.floor),
+        Err(_) => (grid.centre(drop), 0.0),
+    };
+    to_goal.push(drop_px);
+    let travel = smooth_route(grid, &taut(grid, &to_target));
+    let carry = smooth_route(grid, &taut(grid, &to_goal));
+    let approach = grasp + settings.approach_clearance;
+    let release = floor.max(scenario.goals[goal].height) + grasp + settings.release_clearance;
+    let carry_height = match request.full_height {
+        true => carry_height(scenario, object, settings),
+        false => route_carry_height(scenario, grid, object, goal, &[&travel, &carry], settings),
+    }
+    .max(approach)
+    .max(release);
     let at = |p: [f64; 2], h: f64| {
         let [x, y] = scenario.pixel_to_base(p);
         [x, y, table + h]
@@ -208,47 +267,39 @@ pub fn lift(
         phase,
         holding,
     };
-    let mut out = Vec::new();
-    let travel = |out: &mut Vec<ToolWaypoint>, leg: &[Cell], phase: Phase, holding: bool| {
-        out.extend(
-            smooth_path(grid, leg)
-                .into_iter()
-                .skip(1)
-                .map(|p| point(p, carry_height, phase, holding)),
-        );
-    };
-    let start_px = grid.centre(cells[0]);
-    out.push(point(start_px, carry_height, Phase::Start, false));
-    travel(&mut out, to_target, Phase::Travel, false);
+    let start_height = request.start_height.unwrap_or(carry_height);
+    let mut out = vec![point(request.start_px, start_height, Phase::Start, false)];
+    if start_height < carry_height - settings.max_step / 10.0 {
+        out.push(point(request.start_px, carry_height, Phase::Travel, false));
+    }
+    let [mu, mv] = scenario.metres_per_pixel();
+    let mut along = 0.0;
+    for pair in travel.windows(2) {
+        along += ((pair[1][0] - pair[0][0]) * mu).hypot((pair[1][1] - pair[0][1]) * mv);
+        // Down to the carry height at 45° when the tool starts higher.
+        let h = (start_height - along).max(carry_height);
+        out.push(point(pair[1], h, Phase::Travel, false));
+    }
     let target_px = grid.centre(grid.target);
-    out.push(point(
-        target_px,
-        grasp + settings.approach_clearance,
-        Phase::Approach,
-        false,
-    ));
+    // At the approach height already (nothing under the route needs more):
+    // no second waypoint at the same place.
+    let over_target = point(target_px, approach, Phase::Approach, false);
+    if out
+        .last()
+        .is_none_or(|w| distance3(w.position, over_target.position) > 1e-9)
+    {
+        out.push(over_target);
+    }
     out.push(point(target_px, grasp, Phase::Grasp, false));
     out.push(point(target_px, carry_height, Phase::Lift, true));
-    travel(&mut out, to_goal, Phase::Carry, true);
-    let near = cells[goal_at];
-    let drop = grid.drop.unwrap_or(near);
-    if let Some(entry) = task.goal_entry(near).filter(|&e| e != drop) {
-        out.push(point(
-            grid.centre(entry),
-            carry_height,
-            Phase::OverWall,
-            true,
-        ));
+    let goal_box = scenario.goals[goal].bbox;
+    let mut over = false;
+    for &p in carry.iter().skip(1) {
+        over |= goal_box.contains(p);
+        let phase = if over { Phase::OverWall } else { Phase::Carry };
+        out.push(point(p, carry_height, phase, true));
     }
-    let drop_px = grid.release.unwrap_or_else(|_| grid.centre(drop));
-    let goal_wall = scenario.goals[goal].height;
-    out.push(point(drop_px, carry_height, Phase::OverWall, true));
-    out.push(point(
-        drop_px,
-        goal_wall + grasp + settings.release_clearance,
-        Phase::Release,
-        true,
-    ));
+    out.push(point(drop_px, release, Phase::Release, true));
     out.push(point(drop_px, carry_height, Phase::Retreat, false));
     Ok(LiftedMotion {
         waypoints: densify(&out, settings.max_step),
@@ -263,7 +314,7 @@ pub fn grasp_pose(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), Refusal> {
     Ok((
         grasp_yaw(s, held, gripper, settings)?,
         grasp_height(s, held, gripper, settings)?,
@@ -277,7 +328,7 @@ pub fn grasp_height(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<f64, String> {
+) -> Result<f64, Refusal> {
     let h = held.height;
     let margin = s.safety.obstacle_margin;
     let grasp = (h / 2.0)
@@ -290,20 +341,91 @@ pub fn grasp_height(
     if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
         return Ok(grasp);
     }
-    Err(format!(
-        "{} is {h:.3} m tall: with the palm {margin:.3} m above its top the fingers ({:.3} m long) reach {:.1} mm below it, less than half its height or {:.1} mm",
-        held.name,
-        gripper.finger_length,
-        depth.max(0.0) * 1e3,
-        settings.min_grip_depth * 1e3
-    ))
+    Err(Refusal::TooTallForFingers {
+        object: held.name.clone(),
+        height_m: h,
+        palm_gap_m: margin,
+        finger_length_m: gripper.finger_length,
+        grip_depth_m: depth.max(0.0),
+        min_grip_depth_m: settings.min_grip_depth,
+    })
 }
 
 /// Carry height (metres above the table top) of a sub-goal that moves
-/// `object`: the tallest other thing on the table + the object's height +
-/// `carry_clearance`.
+/// `object` when the route is not known: the tallest other thing on the
+/// table + the object's height + `carry_clearance`.
 pub fn carry_height(scenario: &Scenario, object: usize, settings: &LiftSettings) -> f64 {
     tallest(scenario, object) + scenario.objects[object].height + settings.carry_clearance
+}
+
+/// Carry height (metres above the table top) that the route needs: the
+/// tallest thing the footprint (a cell-sized square, pixels) passes over
+/// anywhere along `legs` (pixel polylines) — objects other than the held
+/// one and goal walls grown by the margins the grid paints them with (the
+/// sub-goal's own goal by none), hands by `hand_margin`, touching counts —
+/// plus the object's height plus `carry_clearance` (just those two when the
+/// route passes over nothing).
+pub fn route_carry_height(
+    scenario: &Scenario,
+    grid: &StateGrid,
+    object: usize,
+    goal: usize,
+    legs: &[&[[f64; 2]]],
+    settings: &LiftSettings,
+) -> f64 {
+    let s = scenario;
+    let [mu, mv] = s.metres_per_pixel();
+    let grown = |b: PixelBox, margin: f64| {
+        b.grown(
+            margin / mu + grid.cell_size[0] / 2.0,
+            margin / mv + grid.cell_size[1] / 2.0,
+        )
+    };
+    let objects = s
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != object)
+        .map(|(_, o)| {
+            let margin = match s.is_sensitive(o) {
+                true => s.safety.sensitive_margin,
+                false => s.safety.obstacle_margin,
+            };
+            (grown(o.bbox, margin), o.height)
+        });
+    let goals = s.goals.iter().enumerate().map(|(i, g)| {
+        let margin = if i == goal {
+            0.0
+        } else {
+            s.safety.obstacle_margin
+        };
+        (grown(g.bbox, margin), g.height)
+    });
+    let hands = s
+        .hands
+        .iter()
+        .map(|h| (grown(h.bbox, s.safety.hand_margin), h.height));
+    let passes_over = |b: &PixelBox| {
+        // Touching counts: the box grown by a micro-pixel.
+        let (lo, hi) = (
+            [b.u - 1e-6, b.v - 1e-6],
+            [b.u + b.w + 1e-6, b.v + b.l + 1e-6],
+        );
+        legs.iter().any(|leg| match leg.len() {
+            1 => crosses_open_box(leg[0], leg[0], lo, hi),
+            _ => leg.windows(2).any(|w| crosses_open_box(w[0], w[1], lo, hi)),
+        })
+    };
+    let tallest = objects
+        .chain(goals)
+        .chain(hands)
+        .filter(|(b, _)| passes_over(b))
+        .fold(0.0, |t: f64, (_, h)| t.max(h));
+    tallest + s.objects[object].height + settings.carry_clearance
+}
+
+fn distance3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// Cuts every segment longer than `max_step` into equal steps; inserted
@@ -312,7 +434,7 @@ fn densify(waypoints: &[ToolWaypoint], max_step: f64) -> Vec<ToolWaypoint> {
     let mut out: Vec<ToolWaypoint> = waypoints.first().copied().into_iter().collect();
     for pair in waypoints.windows(2) {
         let (a, b) = (pair[0].position, pair[1].position);
-        let length = (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt();
+        let length = distance3(a, b);
         let steps = (length / max_step).ceil().max(1.0) as usize;
         out.extend((1..=steps).map(|i| {
             let t = i as f64 / steps as f64;
@@ -350,18 +472,17 @@ pub fn grasp_yaw(
     held: &Object,
     gripper: &GripperReach,
     settings: &LiftSettings,
-) -> Result<f64, String> {
+) -> Result<f64, Refusal> {
     let [mu, mv] = s.metres_per_pixel();
     let (along_u, along_v) = (held.bbox.w * mu, held.bbox.l * mv);
     let across = along_u.min(along_v);
     if across + settings.opening_clearance > gripper.max_opening {
-        return Err(format!(
-            "{} is {across:.3} m wide across its narrower side ({:.3} m with {:.3} m clearance); the gripper opens {:.3} m",
-            held.name,
-            across + settings.opening_clearance,
-            settings.opening_clearance,
-            gripper.max_opening
-        ));
+        return Err(Refusal::GripperTooNarrow {
+            object: held.name.clone(),
+            width_m: across,
+            clearance_m: settings.opening_clearance,
+            opening_m: gripper.max_opening,
+        });
     }
     let m = &s.camera.pixel_to_base;
     let (dx, dy) = if along_u >= along_v {

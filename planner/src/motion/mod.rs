@@ -7,6 +7,7 @@ pub mod clearance;
 pub mod geometry;
 pub mod lift;
 pub mod place;
+pub mod route;
 pub mod smooth;
 pub mod start;
 pub mod transit;

@@ -1,6 +1,6 @@
 //! Where a released object comes to rest in its goal box: a small packing
 //! of the box floor, so each piece lies wholly inside the box's inner walls
-//! and apart from the pieces already there.
+//! and apart from the pieces already there, and how high it is released.
 //!
 //! Candidate centres lie on a lattice over the inner rectangle (the goal's
 //! pixel box minus the walls, [`afford_collision::GOAL_WALL`], minus
@@ -9,16 +9,23 @@
 //! work for any box). They are tried row by row (increasing v, then
 //! increasing u), the bottom-left-fill order that packs equal pieces in
 //! rows from one corner. A candidate is free when the object's footprint
-//! keeps [`WALL_CLEARANCE`] from every piece already in the box; from a
-//! piece whose top comes within its safety margin of the box's wall top
-//! (below which nothing is lowered: the object is released above the wall
-//! top and the fingers stay above the object's bottom), the footprint,
-//! widened across the grasp axis to the open fingers' span, keeps that
-//! margin plus [`WALL_CLEARANCE`], as the collision check will ask. Sizes
-//! are metres from pixel sizes through `metres_per_pixel`.
+//! keeps [`WALL_CLEARANCE`] from every piece already in the box.
+//!
+//! Release height ([`Release::floor`]): the object is released above the
+//! wall top, and nothing lowered over the spot reaches below the object's
+//! bottom (the fingertips stay above it). Where what is lowered — the
+//! object's footprint widened across the grasp axis to the open fingers'
+//! span — comes within a piece's safety margin (plus [`WALL_CLEARANCE`])
+//! sideways, the release floor rises to that piece's top plus its margin,
+//! so the fingers pass over it vertically as the collision check asks.
+//! Packing by the object's own footprint and raising the release only where
+//! needed fits more pieces than keeping the open fingers' span clear of
+//! every tall piece, and keeps drops low elsewhere. Sizes are metres from
+//! pixel sizes through `metres_per_pixel`.
 
 use afford_collision::GOAL_WALL;
 
+use crate::error::Refusal;
 use crate::geometry::object_margin;
 use crate::scenario::Scenario;
 
@@ -43,40 +50,56 @@ pub enum NoSpot {
 }
 
 impl NoSpot {
-    /// The refusal in words.
-    pub fn reason(self, s: &Scenario, object: usize, goal: usize) -> String {
+    /// The typed refusal (its `Display` is the message).
+    pub fn reason(self, s: &Scenario, object: usize, goal: usize) -> Refusal {
         let (o, g) = (&s.objects[object], &s.goals[goal]);
         let [mu, mv] = s.metres_per_pixel();
         match self {
-            Self::TooLarge => format!(
-                "{} ({:.3} m x {:.3} m) does not fit inside the {}'s inner walls ({:.3} m x {:.3} m, {} m clearance)",
-                o.name,
-                o.bbox.w * mu,
-                o.bbox.l * mv,
-                g.name,
-                g.bbox.w * mu - 2.0 * GOAL_WALL,
-                g.bbox.l * mv - 2.0 * GOAL_WALL,
-                WALL_CLEARANCE
-            ),
-            Self::Full => format!("{} is full", g.name),
-            Self::Covered => format!("safety perimeters cover the whole {}", g.name),
+            Self::TooLarge => Refusal::DoesNotFitGoal {
+                object: o.name.clone(),
+                goal: g.name.clone(),
+                object_m: [o.bbox.w * mu, o.bbox.l * mv],
+                inner_m: [
+                    g.bbox.w * mu - 2.0 * GOAL_WALL,
+                    g.bbox.l * mv - 2.0 * GOAL_WALL,
+                ],
+                clearance_m: WALL_CLEARANCE,
+            },
+            Self::Full => Refusal::GoalFull {
+                goal: g.name.clone(),
+            },
+            Self::Covered => Refusal::PerimetersCoverGoal {
+                goal: g.name.clone(),
+            },
         }
     }
 }
 
-/// The pixel centre where `scenario.objects[object]` is released into
+/// A release: where the object comes to rest and how high it is let go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Release {
+    /// Pixel (u, v) of the object's resting centre.
+    pub spot: [f64; 2],
+    /// Lowest height above the table top (m) of the object's bottom while
+    /// the gripper is over the spot, set by the pieces already in the goal
+    /// (see the module doc); 0 when none constrains it (the wall top
+    /// always does, see [`crate::lift`]).
+    pub floor: f64,
+}
+
+/// Where `scenario.objects[object]` is released into
 /// `scenario.goals[goal]`: the first free lattice spot that `allowed`
-/// accepts (the grid's test that the gripper may go there). `opening`: the
-/// half-widths of what is lowered around the object (the grasp region's
-/// colliders, at least the open fingers; m, `[along the object's longer
-/// side, across it]`), `None` when unknown.
+/// accepts (the grid's test that the gripper may go there), and its release
+/// floor. `opening`: the half-widths of what is lowered around the object
+/// (the grasp region's colliders, at least the open fingers; m, `[along the
+/// object's longer side, across it]`), `None` when unknown.
 pub fn release_spot(
     s: &Scenario,
     object: usize,
     goal: usize,
     opening: Option<[f64; 2]>,
     allowed: impl Fn([f64; 2]) -> bool,
-) -> Result<[f64; 2], NoSpot> {
+) -> Result<Release, NoSpot> {
     let [mu, mv] = s.metres_per_pixel();
     let held = s.objects[object].bbox;
     let g = s.goals[goal].bbox;
@@ -101,30 +124,24 @@ pub fn release_spot(
     };
     let (us, vs) = (axis(0, mu), axis(1, mv));
     let spots = vs.iter().flat_map(|&v| us.iter().map(move |&u| [u, v]));
-    let wall = s.goals[goal].height;
     let held = footprint(s, object, None);
-    let fingers = footprint(s, object, opening);
-    let pieces: Vec<(usize, [f64; 2], f64)> = (0..s.objects.len())
+    let lowered = footprint(s, object, opening);
+    let pieces: Vec<usize> = (0..s.objects.len())
         .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
-        .map(|j| {
-            let o = &s.objects[j];
-            let margin = object_margin(s, o);
-            match wall - o.height > margin {
-                true => (j, held, 0.0),
-                false => (j, fingers, margin),
-            }
-        })
         .collect();
-    let clear = |p: [f64; 2]| {
-        pieces
-            .iter()
-            .all(|&(j, half, margin)| gap(s, half, p, j) >= margin + WALL_CLEARANCE)
-    };
+    let clear = |p: [f64; 2]| pieces.iter().all(|&j| gap(s, held, p, j) >= WALL_CLEARANCE);
     let mut free = spots.filter(|&p| clear(p)).peekable();
     if free.peek().is_none() {
         return Err(NoSpot::Full);
     }
-    free.find(|&p| allowed(p)).ok_or(NoSpot::Covered)
+    let spot = free.find(|&p| allowed(p)).ok_or(NoSpot::Covered)?;
+    let floor = pieces
+        .iter()
+        .map(|&j| (j, object_margin(s, &s.objects[j])))
+        .filter(|&(j, margin)| gap(s, lowered, spot, j) < margin + WALL_CLEARANCE)
+        .map(|(j, margin)| s.objects[j].height + margin)
+        .fold(0.0, f64::max);
+    Ok(Release { spot, floor })
 }
 
 /// Half sizes (px) of what is lowered over the spot: the object's footprint,
@@ -181,17 +198,22 @@ mod tests {
         gap(s, half, s.objects[a].bbox.centre(), b)
     }
 
+    /// Releases `object` into the left box and leaves it where it lands.
+    fn release(s: &mut Scenario, object: usize, opening: Option<[f64; 2]>) -> Release {
+        let r = release_spot(s, object, 0, opening, |_| true).unwrap();
+        put(s, object, r.spot);
+        r
+    }
+
     #[test]
     fn release_spots_fill_rows_from_one_corner_inside_the_inner_walls() {
         let mut s = scene([20.0, 300.0, 160.0, 160.0]);
         let [mu, mv] = s.metres_per_pixel();
-        let first = release_spot(&s, 0, 0, Some([0.0, 0.04]), |_| true).unwrap();
+        let first = release(&mut s, 0, Some([0.0, 0.04])).spot;
         // Top-left corner: wall + clearance + half the object from each side.
         assert!((first[0] - (20.0 + (GOAL_WALL + WALL_CLEARANCE) / mu + 20.0)).abs() < 1e-9);
         assert!((first[1] - (300.0 + (GOAL_WALL + WALL_CLEARANCE) / mv + 20.0)).abs() < 1e-9);
-        put(&mut s, 0, first);
-        let second = release_spot(&s, 1, 0, Some([0.0, 0.04]), |_| true).unwrap();
-        put(&mut s, 1, second);
+        let second = release(&mut s, 1, Some([0.0, 0.04])).spot;
         assert_eq!(second[1], first[1], "same row");
         assert!(footprint_gap(&s, 1, 0) >= WALL_CLEARANCE);
     }
@@ -201,7 +223,10 @@ mod tests {
         let mut s = scene([20.0, 300.0, 80.0, 80.0]);
         put(&mut s, 0, [60.0, 340.0]);
         assert_eq!(release_spot(&s, 1, 0, None, |_| true), Err(NoSpot::Full));
-        assert_eq!(NoSpot::Full.reason(&s, 1, 0), "left box is full");
+        assert_eq!(
+            NoSpot::Full.reason(&s, 1, 0).to_string(),
+            "left box is full"
+        );
         let small = scene([20.0, 300.0, 60.0, 60.0]);
         assert_eq!(
             release_spot(&small, 1, 0, None, |_| true),
@@ -214,32 +239,57 @@ mod tests {
         );
     }
 
-    #[test]
-    fn pieces_as_tall_as_the_wall_keep_their_margin_from_the_open_fingers() {
-        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
-        let first = release_spot(&s, 0, 0, Some([0.0, 0.04]), |_| true).unwrap();
-        put(&mut s, 0, first);
+    /// The fingers' and palm's half-widths `gripper` lowered over a piece as
+    /// tall as the wall either keep its margin sideways or pass over it by
+    /// its margin: the piece packs next to it at the plain clearance and
+    /// the release floor rises to the piece's top plus its margin.
+    fn tall_neighbour_is_passed_over(gripper: [f64; 2]) {
+        let mut s = scene([20.0, 300.0, 200.0, 200.0]);
+        let first = release(&mut s, 0, Some(gripper));
+        assert_eq!(first.floor, 0.0, "an empty box constrains nothing");
         s.objects[0].height = s.goals[0].height;
-        let spot = release_spot(&s, 1, 0, Some([0.0, 0.04]), |_| true).unwrap();
-        put(&mut s, 1, spot);
-        assert!(footprint_gap(&s, 1, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
+        let second = release(&mut s, 1, Some(gripper));
+        let margin = s.safety.obstacle_margin;
+        assert!((footprint_gap(&s, 1, 0) - WALL_CLEARANCE).abs() < 2e-3);
+        let lowered = footprint(&s, 1, Some(gripper));
+        let sideways = gap(&s, lowered, second.spot, 0) >= margin + WALL_CLEARANCE;
+        let over = second.floor >= s.objects[0].height + margin - 1e-12;
+        assert!(sideways || over, "{second:?}");
+        assert!(over, "the open fingers reach the neighbour sideways here");
     }
 
     #[test]
-    fn place_keeps_the_margin_from_a_gripper_wider_than_the_object_along_it() {
+    fn open_fingers_pass_over_a_neighbour_as_tall_as_the_wall() {
+        tall_neighbour_is_passed_over([0.0, 0.04]);
+    }
+
+    #[test]
+    fn a_palm_wider_than_the_object_passes_over_a_tall_neighbour() {
         // A palm reaching 0.064 m to either side along the object (the
-        // Care-O-bot's palm capsule), 0.04 m across: the spot leaves that
-        // whole footprint clear of a piece as tall as the wall.
-        let mut s = scene([20.0, 300.0, 200.0, 200.0]);
-        let gripper = Some([0.064, 0.04]);
-        let first = release_spot(&s, 0, 0, gripper, |_| true).unwrap();
-        put(&mut s, 0, first);
-        s.objects[0].height = s.goals[0].height;
-        let spot = release_spot(&s, 1, 0, gripper, |_| true).unwrap();
-        put(&mut s, 1, spot);
-        let half = footprint(&s, 1, gripper);
+        // Care-O-bot's palm capsule), 0.04 m across.
+        tall_neighbour_is_passed_over([0.064, 0.04]);
+    }
+
+    #[test]
+    fn goal_full_does_not_count_the_open_fingers_span_against_tall_pieces() {
+        // Pieces as tall as the wall in a 0.10 m box: each is packed by its
+        // own footprint (a 0.025 m square: three a row with 5 mm gaps
+        // inside 0.09 m), not by the open fingers' 0.08 m span.
+        let mut s = scene([20.0, 300.0, 160.0, 160.0]);
         let [mu, _] = s.metres_per_pixel();
-        assert!(half[0].max(half[1]) >= 0.064 / mu - 1e-9, "{half:?}");
-        assert!(gap(&s, half, spot, 0) >= s.safety.obstacle_margin + WALL_CLEARANCE);
+        let gripper = Some([0.02, 0.04]);
+        let wall = s.goals[0].height;
+        let mut placed = 0;
+        for object in 0..s.objects.len() {
+            if release_spot(&s, object, 0, gripper, |_| true).is_err() {
+                break;
+            }
+            release(&mut s, object, gripper);
+            s.objects[object].height = wall;
+            placed += 1;
+        }
+        let side = s.objects[0].bbox.w * mu;
+        assert!(side <= 0.026, "{side}");
+        assert!(placed >= s.objects.len().min(3), "{placed} placed");
     }
 }

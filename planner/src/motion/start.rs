@@ -147,6 +147,25 @@ pub fn resolve(
     }
 }
 
+/// The state of a robot stopped mid-execution (the monitor replans from
+/// it): its joints as they are; the grid starts under the tool of `arm`
+/// (the arm that moved), or, without one, as in the table's first row.
+pub fn mid_execution(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    joints: Vec<f64>,
+    arm: Option<&str>,
+) -> StartState {
+    let gripper_px = match arm.and_then(|name| robot.arm(name).ok()) {
+        Some(arm) => {
+            let p = arm.fk(&arm.extract(&joints)).translation.vector;
+            clamp_into_image(scenario, scenario.base_to_pixel([p.x, p.y]))
+        }
+        None => seen_gripper(scenario, robot, &joints),
+    };
+    StartState { joints, gripper_px }
+}
+
 /// Home with every arm that has a park posture parked.
 pub fn parked_home(robot: &RobotModel) -> Vec<f64> {
     let mut q = robot.home().to_vec();
@@ -164,6 +183,32 @@ pub fn is_parked(arm: &Arm, q_robot: &[f64]) -> bool {
             .park
             .iter()
             .all(|&(i, v)| (q_robot[i] - v).abs() <= LIMIT_TOLERANCE)
+}
+
+/// Horizontal distance (m) within which a tool is taken to be over a pixel.
+const OVER_PIXEL: f64 = 1e-3;
+/// Tilt (rad) within which a tool is taken to point down.
+const POINTS_DOWN: f64 = 0.01;
+
+/// The height above the table (metres) of the tool of an arm that points
+/// down within `POINTS_DOWN` rad over pixel `px` (within `OVER_PIXEL` m in
+/// the table plane) in the whole-robot configuration `joints`; the first
+/// such arm, `None` when no arm's tool is there. The route of the next
+/// sub-goal starts at this height, from where the tool really is.
+pub fn tool_height_over(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    joints: &[f64],
+    px: [f64; 2],
+) -> Option<f64> {
+    let [x, y] = scenario.pixel_to_base(px);
+    robot.arms().iter().find_map(|arm| {
+        let tool = arm.fk(&arm.extract(joints));
+        let p = tool.translation.vector;
+        let down = (tool.rotation * Vec3::z()).angle(&-Vec3::z());
+        ((p.x - x).hypot(p.y - y) <= OVER_PIXEL && down <= POINTS_DOWN)
+            .then(|| p.z - scenario.camera.table_z)
+    })
 }
 
 /// `start`, when the tool of the arm nearest it lies within one grid cell of
@@ -184,7 +229,7 @@ fn agreeing_start(
     Err(vec![FieldIssue::new(
         "robot.start",
         format!(
-            "({}, {}) disagrees with robot.joints: the tool of arm {arm} is at pixel ({:.1}, {:.1}), \
+            "({}, {}) disagrees with robot.joints: the tool of the arm '{arm}' is at pixel ({:.1}, {:.1}), \
              {:.1} px along u and {:.1} px along v away, more than one grid cell ({} x {} px); \
              fix or drop one of the two fields",
             start[0], start[1], tool_px[0], tool_px[1], off[0], off[1], cell[0], cell[1]
@@ -201,8 +246,16 @@ fn seen_gripper(scenario: &Scenario, robot: &RobotModel, joints: &[f64]) -> [f64
     );
     let centre = scenario.pixel_to_base([w / 2.0, h / 2.0]);
     let (_, tool) = nearest_tool(robot, joints, centre);
-    let [u, v] = scenario.base_to_pixel(tool);
-    // The last pixel's far edge is outside the image: stay half a pixel in.
+    clamp_into_image(scenario, scenario.base_to_pixel(tool))
+}
+
+/// The pixel clamped into the image; the last pixel's far edge is outside
+/// it, so stay half a pixel in.
+fn clamp_into_image(scenario: &Scenario, [u, v]: [f64; 2]) -> [f64; 2] {
+    let (w, h) = (
+        f64::from(scenario.camera.width),
+        f64::from(scenario.camera.height),
+    );
     [u.clamp(0.0, w - 0.5), v.clamp(0.0, h - 0.5)]
 }
 
@@ -267,11 +320,11 @@ fn hover(
                 arm.insert(&mut q, &solution.q);
                 return Ok(q);
             }
-            Err(e) => reasons.push(format!("arm {}: {e}", arm.name)),
+            Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
         }
     }
     Err(format!(
-        "no arm can hover over pixel ({}, {}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
+        "no arm can hover over pixel ({:.1}, {:.1}) at the carry height, ({x:.3}, {y:.3}, {z:.3}) m: {}; \
          give the robot's joint state in robot.joints",
         px[0],
         px[1],

@@ -48,6 +48,13 @@ pub const MAX_GOALS: usize = 16;
 /// Most hands.
 pub const MAX_HANDS: usize = 16;
 
+/// Most `observations` entries (a scripted execution: a few changes per
+/// sub-goal for the most sub-goals would be far fewer).
+pub const MAX_OBSERVATIONS: usize = 64;
+
+/// Latest `observations[i].at`, seconds of execution (one hour).
+pub const MAX_EXECUTION_TIME_S: f64 = 3_600.0;
+
 /// Most `sensitive` entries.
 pub const MAX_SENSITIVE: usize = 64;
 

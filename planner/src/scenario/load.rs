@@ -116,11 +116,58 @@ fn parse_yaml<T: DeserializeOwned>(text: &str, file: &str) -> Result<T, Scenario
         let location = e.location();
         ScenarioError::Parse {
             file: file.to_string(),
-            issue: FieldIssue::new(path.into_inner(), strip_location(&e.to_string())),
+            issue: FieldIssue::new(path.into_inner(), yaml_message(&e)),
             line: location.map(|l| l.line()),
             column: location.map(|l| l.column()),
         }
     })
+}
+
+/// The YAML reader's error in a scenario author's terms: its duplicate-key
+/// and size-budget errors name the reader's own options and types
+/// ("DuplicateKeyPolicy", "budget breached: Nodes { .. }").
+fn yaml_message(e: &serde_saphyr::Error) -> String {
+    use serde_saphyr::Error as E;
+    match e {
+        E::DuplicateMappingKey { key: Some(k), .. } => {
+            format!("`{k}` is given twice (a duplicate key); give each field once")
+        }
+        E::DuplicateMappingKey { key: None, .. } => {
+            "a field is given twice (a duplicate key); give each field once".to_string()
+        }
+        E::Budget { breach, .. } => format!(
+            "the file is too large for a scenario: {}",
+            budget_breach(breach)
+        ),
+        other => strip_location(&other.to_string()),
+    }
+}
+
+/// Which of the YAML reader's size limits a file broke, in words.
+fn budget_breach(breach: &serde_saphyr::budget::BudgetBreach) -> String {
+    use serde_saphyr::budget::BudgetBreach as B;
+    match breach {
+        B::Nodes { nodes } => format!(
+            "more than {} values (lists, mappings and scalars)",
+            nodes - 1
+        ),
+        B::Depth { depth } => format!("lists or mappings nested {depth} deep"),
+        B::Aliases { aliases } => format!("{aliases} alias references (*name)"),
+        B::Anchors { anchors } => format!("{anchors} anchors (&name)"),
+        B::Events { events } => format!("more than {} YAML events", events - 1),
+        B::Documents { documents } => format!("{documents} YAML documents; a scenario is one"),
+        other => format!("a YAML size limit ({})", breach_name(other)),
+    }
+}
+
+/// The limit's name without its counters ("ScalarBytes").
+fn breach_name(breach: &serde_saphyr::budget::BudgetBreach) -> String {
+    let debug = format!("{breach:?}");
+    debug
+        .split(|c: char| !c.is_alphanumeric())
+        .next()
+        .unwrap_or_default()
+        .to_string()
 }
 
 /// `objects[2].box` style path; empty at the document root.

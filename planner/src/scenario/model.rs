@@ -47,6 +47,10 @@ pub struct Scenario {
     /// Learner parameters; the defaults are documented on [`LearnerSettings`].
     #[serde(default)]
     pub learner: LearnerSettings,
+    /// What the camera sees during execution (`afford run`), in order;
+    /// see [`super::Observation`]. Planning ignores it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub observations: Vec<super::Observation>,
 }
 
 /// The overhead camera: image size and its calibration to the table plane.

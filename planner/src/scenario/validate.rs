@@ -8,6 +8,7 @@ use std::collections::HashSet;
 use super::bounds::*;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
+use crate::instruction::lexicon::{COLOURS, SHAPES};
 
 /// Collects issues; `push(field, message)`.
 type Push<'a> = dyn FnMut(String, String) + 'a;
@@ -51,12 +52,15 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         check_pixel(s, "pointing", p, push);
     }
     check_elements(s, camera_ok, push);
+    check_observations(s, camera_ok, push);
     for (i, entry) in s.sensitive.iter().take(MAX_SENSITIVE).enumerate() {
         if entry.trim().is_empty() {
             push(
                 format!("sensitive[{i}]"),
                 "must name a colour, shape or object".into(),
             );
+        } else if let Some(message) = unknown_sensitive(s, entry) {
+            push(format!("sensitive[{i}]"), message);
         }
         check_text(&format!("sensitive[{i}]"), entry, push);
     }
@@ -80,6 +84,35 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         }
     }
     issues
+}
+
+/// Why `entry` of `sensitive:` names nothing (no object's colour, shape or
+/// name, no colour or shape afford knows), with the nearest word as a
+/// did-you-mean; `None` when it names something.
+fn unknown_sensitive(s: &Scenario, entry: &str) -> Option<String> {
+    let known = s
+        .objects
+        .iter()
+        .flat_map(|o| [&o.color, &o.shape, &o.name].map(|w| w.to_lowercase()))
+        .chain(COLOURS.iter().chain(SHAPES).map(|w| w.to_string()));
+    let wanted = entry.trim().to_lowercase();
+    let mut nearest: Option<(usize, String)> = None;
+    for word in known {
+        let distance = strsim::levenshtein(&wanted, &word);
+        if distance == 0 {
+            return None;
+        }
+        if nearest.as_ref().is_none_or(|(d, _)| distance < *d) {
+            nearest = Some((distance, word));
+        }
+    }
+    let hint = match nearest {
+        Some((d, word)) if d <= 2 => format!("; did you mean '{word}'?"),
+        _ => String::new(),
+    };
+    Some(format!(
+        "'{entry}' names no colour, shape or object of the scene, so no margin would be kept{hint}"
+    ))
 }
 
 /// Objects, goals and hands: names, boxes, heights, counts; objects also
@@ -132,6 +165,69 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
                 push(format!("objects[{i}].{what}"), "must not be empty".into());
             }
             check_text(&format!("objects[{i}].{what}"), text, push);
+        }
+    }
+}
+
+/// The observation timeline: each entry happens at a time or a plan point
+/// (exactly one, in range), changes at least one list, and the scene after
+/// it (the entries before it applied in file order) is valid as the file's
+/// own lists are: its issues are named `observations[i].<list>[j]...`.
+fn check_observations(s: &Scenario, camera_ok: bool, push: &mut Push) {
+    check_count("observations", s.observations.len(), MAX_OBSERVATIONS, push);
+    let mut before: HashSet<String> = HashSet::new();
+    check_elements(s, camera_ok, &mut |field, message| {
+        before.insert(format!("{field}: {message}"));
+    });
+    let mut scene = s.clone();
+    for (i, o) in s.observations.iter().take(MAX_OBSERVATIONS).enumerate() {
+        let field = |f: &str| format!("observations[{i}].{f}");
+        match (o.at, &o.when) {
+            (Some(_), Some(_)) | (None, None) => push(
+                format!("observations[{i}]"),
+                "must give exactly one of `at` (seconds) and `when` (a plan point)".into(),
+            ),
+            (Some(at), None) if !(at.is_finite() && (0.0..=MAX_EXECUTION_TIME_S).contains(&at)) => {
+                push(
+                    field("at"),
+                    format!("must be between 0 and {MAX_EXECUTION_TIME_S} seconds, got {at:?}"),
+                )
+            }
+            (None, Some(when)) => {
+                if when.subgoal >= MAX_OBJECTS {
+                    push(
+                        field("when.subgoal"),
+                        format!(
+                            "must be below {MAX_OBJECTS} (one sub-goal per object), got {}",
+                            when.subgoal
+                        ),
+                    );
+                }
+                if !(when.fraction.is_finite() && (0.0..=1.0).contains(&when.fraction)) {
+                    push(
+                        field("when.fraction"),
+                        format!("must be between 0 and 1, got {:?}", when.fraction),
+                    );
+                }
+            }
+            _ => {}
+        }
+        if o.is_unchanged() {
+            push(
+                format!("observations[{i}]"),
+                "must list at least one of `objects`, `goals`, `hands`".into(),
+            );
+        }
+        scene.apply(o);
+        let mut found = Vec::new();
+        check_elements(&scene, camera_ok, &mut |f, message| {
+            found.push((f, message))
+        });
+        for (f, message) in found {
+            // Reported once: where the problem first appears.
+            if before.insert(format!("{f}: {message}")) {
+                push(field(&f), message);
+            }
         }
     }
 }

@@ -1,5 +1,6 @@
 //! `afford bench timing`: the timing stage on seeded random smooth 7-joint
-//! paths with KUKA LBR iiwa 14-like limits, 200 path segments.
+//! paths with KUKA LBR iiwa 14-like limits, 200 path segments, then on the
+//! real paths of every example ([`examples`](super::examples)).
 
 use std::time::Instant;
 
@@ -7,7 +8,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
+use super::examples::measure_examples;
 use super::run::{JointLimits, TimingSettings, time_parameterize};
+use crate::plan::PlanOptions;
 
 /// iiwa 14 R820 joint velocity limits, rad/s.
 pub const IIWA_VELOCITY: [f64; 7] = [1.48, 1.48, 1.75, 1.31, 2.27, 2.36, 2.36];
@@ -86,6 +89,18 @@ pub struct TimingBenchReport {
     pub runs: usize,
     pub joints: usize,
     pub segments: usize,
+    /// Largest moving time of an example sub-goal over the converged
+    /// time-optimal one on the same path and limits (see
+    /// [`examples`](super::examples)).
+    pub max_ratio_to_optimal_examples: f64,
+    /// Median wall time of the timing stage per example sub-goal, ms.
+    pub median_ms_examples: f64,
+    /// Most direction reversals of one joint within one example sub-goal.
+    pub max_velocity_reversals: usize,
+    /// Largest jerk between samples over the joint's jerk limit, any example.
+    pub max_jerk_ratio: f64,
+    /// Example sub-goals measured.
+    pub example_subgoals: usize,
 }
 
 /// Runs the benchmark (single-threaded, deterministic inputs).
@@ -115,6 +130,8 @@ pub fn timing_benchmark(bench: &TimingBenchSettings) -> TimingBenchReport {
         }
     }
     let runs = total.len();
+    let examples = measure_examples(&PlanOptions::default());
+    let mut example_ms: Vec<f64> = examples.iter().map(|f| f.timing_ms).collect();
     TimingBenchReport {
         median_ms_200: quantile(&mut total, 0.5),
         p90_ms_200: quantile(&mut total, 0.9),
@@ -125,6 +142,21 @@ pub fn timing_benchmark(bench: &TimingBenchSettings) -> TimingBenchReport {
         runs,
         joints: 7,
         segments: settings.path_points,
+        max_ratio_to_optimal_examples: examples
+            .iter()
+            .map(|f| f.ratio_to_optimal)
+            .fold(f64::NAN, f64::max),
+        median_ms_examples: quantile(&mut example_ms, 0.5),
+        max_velocity_reversals: examples
+            .iter()
+            .map(|f| f.max_velocity_reversals)
+            .max()
+            .unwrap_or(0),
+        max_jerk_ratio: examples
+            .iter()
+            .map(|f| f.jerk_ratio)
+            .fold(f64::NAN, f64::max),
+        example_subgoals: examples.len(),
     }
 }
 

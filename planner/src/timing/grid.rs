@@ -77,6 +77,22 @@ impl PathGrid {
         Self { s, piece }
     }
 
+    /// The grid with segment `i` cut into `parts(i) ≥ 1` equal segments
+    /// (every old grid point stays one, so every spline knot too).
+    pub fn split(&self, parts: impl Fn(usize) -> usize) -> Self {
+        let mut s = Vec::with_capacity(self.s.len());
+        let mut piece = Vec::with_capacity(self.piece.len());
+        for i in 0..self.segments() {
+            let n = parts(i).max(1);
+            for m in 0..n {
+                s.push(self.s[i] + self.step(i) * m as f64 / n as f64);
+                piece.push(self.piece[i]);
+            }
+        }
+        s.push(*self.s.last().expect("a grid has points"));
+        Self { s, piece }
+    }
+
     /// Number of segments `N`.
     pub fn segments(&self) -> usize {
         self.piece.len()
@@ -143,23 +159,14 @@ pub fn segment_rows(
     tool: Option<(&PiecewiseCubic, f64)>,
     rows: &mut Vec<(f64, f64)>,
 ) {
-    let ds = grid.step(i);
     for j in 0..spline.dim() {
-        let (d1, d2) = derivatives_on_segment(spline, grid, i, j);
-        // Acceleration: u(θ) multiplies b_i, w(θ) multiplies b_{i+1}.
-        let half = 0.5 / ds;
-        let u = [
-            d2[0] - half * d1[0],
-            d2[1] - d2[0] - half * d1[1],
-            -d2[1] - half * d1[2],
-        ];
-        let w = [half * d1[0], d2[0] + half * d1[1], d2[1] + half * d1[2]];
-        let (bu, bw) = (bernstein(&u), bernstein(&w));
+        let (bu, bw) = acceleration_bernstein(spline, grid, i, j);
         for k in 0..3 {
             let (alpha, beta) = (bu[k] / acc[j], bw[k] / acc[j]);
             push_lattice_row(alpha, beta, rows);
             push_lattice_row(-alpha, -beta, rows);
         }
+        let (d1, _) = derivatives_on_segment(spline, grid, i, j);
         let mut g = square(&d1);
         g.iter_mut().for_each(|c| *c /= vel_sq[j]);
         push_speed_rows(&g, rows);
@@ -174,6 +181,68 @@ pub fn segment_rows(
         }
         push_speed_rows(&g, rows);
     }
+}
+
+/// Bernstein coefficients (in `θ`) of the acceleration of joint `j` on
+/// segment `i` that multiply `b_i` and `b_{i+1}`:
+/// `q̈_j(θ) = u(θ) b_i + w(θ) b_{i+1}`.
+fn acceleration_bernstein(
+    spline: &PiecewiseCubic,
+    grid: &PathGrid,
+    i: usize,
+    j: usize,
+) -> ([f64; 3], [f64; 3]) {
+    let (d1, d2) = derivatives_on_segment(spline, grid, i, j);
+    let half = 0.5 / grid.step(i);
+    let u = [
+        d2[0] - half * d1[0],
+        d2[1] - d2[0] - half * d1[1],
+        -d2[1] - half * d1[2],
+    ];
+    let w = [half * d1[0], d2[0] + half * d1[1], d2[1] + half * d1[2]];
+    (bernstein(&u), bernstein(&w))
+}
+
+/// True when an acceleration row of segment `i` (as [`segment_rows`] writes
+/// it) is within `slack` of its bound at `(b_i, b_{i+1})`: the segment is
+/// acceleration-bound, where cutting it gains time (its bounds are
+/// conservative to first order in `Δs`, the speed rows to second order).
+pub fn acceleration_bound(
+    spline: &PiecewiseCubic,
+    grid: &PathGrid,
+    i: usize,
+    acc: &[f64],
+    (b0, b1): (f64, f64),
+    slack: f64,
+) -> bool {
+    (0..spline.dim()).any(|j| {
+        let (bu, bw) = acceleration_bernstein(spline, grid, i, j);
+        (0..3).any(|k| {
+            [1.0, -1.0].into_iter().any(|sign| {
+                let (alpha, beta) = (sign * bu[k] / acc[j], sign * bw[k] / acc[j]);
+                let value = if alpha > 0.0 && beta > 0.0 {
+                    (alpha + beta) * b0.max(b1)
+                } else {
+                    alpha * b0 + beta * b1
+                };
+                value >= 1.0 - slack
+            })
+        })
+    })
+}
+
+/// True when the speed rows of some joint on segment `i` are loose: its
+/// squared speed varies more than 2× over the segment (a joint turning
+/// round), so [`push_speed_rows`] floors the end values and its bound can be
+/// up to 2× below the true one until the segment is cut.
+pub fn speed_rows_loose(spline: &PiecewiseCubic, grid: &PathGrid, i: usize) -> bool {
+    (0..spline.dim()).any(|j| {
+        let (d1, _) = derivatives_on_segment(spline, grid, i, j);
+        let g = square(&d1);
+        let peak = bernstein(&g).into_iter().fold(0.0_f64, f64::max);
+        let (g0, g1) = (g[0], g.iter().sum::<f64>());
+        peak > 0.0 && g0.min(g1) < 0.5 * peak
+    })
 }
 
 /// A row with both coefficients positive, `α b_i + β b_{i+1} ≤ 1`, is

@@ -77,6 +77,7 @@
 
 pub mod bench;
 pub mod deviation;
+pub mod examples;
 pub mod grid;
 pub mod sample;
 pub mod separation;

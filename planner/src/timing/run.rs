@@ -9,7 +9,7 @@ use super::grid::{self, PathGrid};
 use super::sample::{self, JointTrajectory, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
-use super::topp::{self, Program, ProgramSettings, SegmentRows, SolverOutcome};
+use super::topp::{self, ProfileSolution, Program, ProgramSettings, SegmentRows, SolverOutcome};
 
 /// Per-joint limits of one arm.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -51,6 +51,14 @@ pub struct TimingSettings {
     /// At least one segment per spline piece is used, so more waypoints than
     /// this give more.
     pub path_points: usize,
+    /// Refinement rounds after the first solve, 0 (off): each cuts every segment
+    /// where a constraint binds into 4 and solves again (see
+    /// docs/decisions.md: the bound segments are where the per-segment
+    /// bounds cost time).
+    pub refine_rounds: u32,
+    /// Refinement stops once a round gains less than this fraction of the
+    /// duration, 1e-3.
+    pub refine_tolerance: f64,
     /// Controller sampling rate, Hz, 100.
     pub rate_hz: f64,
     /// Global speed scale `k ∈ (0, 1]`, 1: velocity limits × k, acceleration × k².
@@ -85,6 +93,8 @@ impl Default for TimingSettings {
     fn default() -> Self {
         Self {
             path_points: 300,
+            refine_rounds: 0,
+            refine_tolerance: 1e-3,
             rate_hz: 100.0,
             speed_scale: 1.0,
             smoothing_weight: 0.0,
@@ -102,7 +112,13 @@ impl Default for TimingSettings {
 impl TimingSettings {
     /// Checks every field is finite and in range.
     pub fn validate(&self) -> Result<(), TimingError> {
-        let checks: [(&'static str, f64, bool, &'static str); 8] = [
+        let checks: [(&'static str, f64, bool, &'static str); 9] = [
+            (
+                "refine_tolerance",
+                self.refine_tolerance,
+                self.refine_tolerance >= 0.0,
+                "≥ 0",
+            ),
             ("rate_hz", self.rate_hz, self.rate_hz > 0.0, "> 0"),
             (
                 "speed_scale",
@@ -300,8 +316,10 @@ pub struct SolveStats {
     pub segments: usize,
     /// Linear rows kept after pruning.
     pub linear_rows: usize,
-    /// Clarabel's solve time, seconds.
+    /// Clarabel's solve time of the last program, seconds.
     pub solve_time_s: f64,
+    /// Refinement rounds run after the first solve.
+    pub refinements: u32,
     /// Whole stage (spline to checked samples), seconds.
     pub total_time_s: f64,
 }
@@ -394,78 +412,76 @@ pub fn time_parameterize_tool(
         );
     }
     let spline = PiecewiseCubic::blended(&points, &knots, &radii);
-    let grid = PathGrid::new(&spline, settings.path_points);
-    let n = grid.segments();
 
     // Limits inside the program: scaled, with the margin taken off.
     let k = settings.speed_scale;
     let shrink = 1.0 - settings.limit_margin;
-    let tool_shrink = shrink * (1.0 - settings.tool_speed_margin);
-    let vel_sq: Vec<f64> = limits
-        .velocity
-        .iter()
-        .map(|v| (v * k * shrink).powi(2))
-        .collect();
-    let acc: Vec<f64> = limits
-        .acceleration
-        .iter()
-        .map(|a| a * k * k * shrink)
-        .collect();
-
-    // Tool path and per-segment caps.
-    let tool = match proximity {
-        Some(p) if !p.hands.is_empty() => Some(tool_caps(p, &keep, &knots, &radii, &grid)?),
+    let program = ProgramLimits {
+        vel_sq: limits
+            .velocity
+            .iter()
+            .map(|v| (v * k * shrink).powi(2))
+            .collect(),
+        acc: limits
+            .acceleration
+            .iter()
+            .map(|a| a * k * k * shrink)
+            .collect(),
+        tool_shrink: shrink * (1.0 - settings.tool_speed_margin),
+    };
+    let tool_spline = match proximity {
+        Some(p) if !p.hands.is_empty() => Some(tool_spline(p, &keep, &knots, &radii)),
         _ => None,
     };
+    let tool = tool_spline.as_ref().zip(proximity);
 
-    let mut rows = SegmentRows {
-        offsets: Vec::with_capacity(n + 1),
-        rows: Vec::with_capacity(4 * n),
-    };
-    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
-    rows.offsets.push(0);
-    for i in 0..n {
-        seg_rows.clear();
-        let tool_i = tool
-            .as_ref()
-            .map(|(spline, caps, _)| (spline, (caps[i] * tool_shrink).powi(2)));
-        grid::segment_rows(&spline, &grid, i, &vel_sq, &acc, tool_i, &mut seg_rows);
-        // b_0 = b_N = 0: their coefficients vanish.
-        if i == 0 {
-            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
+    let mut solved = solve_on_grid(
+        &spline,
+        PathGrid::new(&spline, settings.path_points),
+        &program,
+        tool,
+        settings,
+    )?;
+    let mut rounds = 0;
+    let most = settings.path_points.max(solved.grid.segments()) * MAX_REFINED_GROWTH;
+    while rounds < settings.refine_rounds && solved.usable() && solved.grid.segments() < most {
+        let active = solved.refinable(&spline, &program.acc);
+        if !active.iter().any(|&a| a) {
+            break;
         }
-        if i == n - 1 {
-            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
+        let finer = solved
+            .grid
+            .split(|i| if active[i] { REFINE_PARTS } else { 1 });
+        let next = solve_on_grid(&spline, finer, &program, tool, settings)?;
+        rounds += 1;
+        if !next.usable() {
+            break;
         }
-        grid::prune_rows(&mut seg_rows, &mut scratch);
-        rows.rows.extend_from_slice(&seg_rows);
-        rows.offsets.push(rows.rows.len());
+        let (before, after) = (solved.duration(), next.duration());
+        solved = next;
+        if before - after <= settings.refine_tolerance * before {
+            break;
+        }
     }
-
-    let solution = topp::solve_profile(
-        &grid,
-        &rows,
-        &ProgramSettings {
-            program: settings.program,
-            smoothing_weight: settings.smoothing_weight,
-            max_iterations: settings.max_iterations,
-            tolerance: settings.solver_tolerance,
-        },
-    );
+    let Solved {
+        grid,
+        rows,
+        solution,
+        tool: tool_caps,
+    } = solved;
+    let n = grid.segments();
+    let tool = tool_spline.as_ref().zip(tool_caps);
     let mut stats = SolveStats {
         outcome: solution.outcome,
         iterations: solution.iterations,
         segments: n,
         linear_rows: rows.rows.len(),
         solve_time_s: solution.solve_time_s,
+        refinements: rounds,
         total_time_s: 0.0,
     };
-    let separation = tool.as_ref().map(|(_, _, summary)| summary.clone());
-    let usable = matches!(
-        solution.outcome,
-        SolverOutcome::Solved | SolverOutcome::AlmostSolved
-    ) && solution.b[1..n].iter().all(|b| b.is_finite() && *b > 0.0);
-    if !usable {
+    let separation = tool.as_ref().map(|(_, t)| t.summary.clone());
+    if !usable(&solution) {
         stats.total_time_s = started.elapsed().as_secs_f64();
         let outcome = match solution.outcome {
             SolverOutcome::Solved | SolverOutcome::AlmostSolved => SolverOutcome::NumericalError,
@@ -508,7 +524,7 @@ pub fn time_parameterize_tool(
             profile: &profile,
             tool_speed: tool
                 .as_ref()
-                .map(|(spline, caps, _)| (spline, caps.as_slice())),
+                .map(|(spline, t)| (*spline, t.caps.as_slice())),
             tool_path: tool_path.as_ref(),
         },
     );
@@ -630,22 +646,30 @@ fn validate_input(
     Ok(())
 }
 
-/// The tool spline on the joint knots, the cap of every segment (m/s) and
-/// the summary. A segment's distance is the smaller end-point distance less
-/// half its chord (a lower bound along a straight chord).
-fn tool_caps(
+/// The tool path: the blended construction on the tool positions, with the
+/// joint path's knots and radii.
+fn tool_spline(
     proximity: &Proximity,
     keep: &[usize],
     knots: &[f64],
     radii: &[f64],
-    grid: &PathGrid,
-) -> Result<(PiecewiseCubic, Vec<f64>, SeparationSummary), TimingError> {
-    let rule = &proximity.rule;
+) -> PiecewiseCubic {
     let tool_points: Vec<&[f64]> = keep
         .iter()
         .map(|&k| proximity.tool_positions[k].as_slice())
         .collect();
-    let tool = PiecewiseCubic::blended(&tool_points, knots, radii);
+    PiecewiseCubic::blended(&tool_points, knots, radii)
+}
+
+/// The cap of every segment of `grid` (m/s) and the summary. A segment's
+/// distance is the smaller end-point distance less half its chord (a lower
+/// bound along a straight chord).
+fn tool_caps(
+    proximity: &Proximity,
+    tool: &PiecewiseCubic,
+    grid: &PathGrid,
+) -> Result<ToolCaps, TimingError> {
+    let rule = &proximity.rule;
     let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
     let positions: Vec<[f64; 3]> = grid
         .s
@@ -666,6 +690,7 @@ fn tool_caps(
         crawl_segments: 0,
     };
     let mut caps = Vec::with_capacity(grid.segments());
+    let mut graded = Vec::with_capacity(grid.segments());
     for i in 0..grid.segments() {
         let chord: f64 = (0..3)
             .map(|k| (positions[i + 1][k] - positions[i][k]).powi(2))
@@ -688,8 +713,163 @@ fn tool_caps(
         }
         summary.min_cap_m_s = summary.min_cap_m_s.min(cap);
         caps.push(cap);
+        graded.push(cap == rule.formula_speed(d));
     }
-    Ok((tool, caps, summary))
+    Ok(ToolCaps {
+        caps,
+        graded,
+        summary,
+    })
+}
+
+/// Segments an active segment is cut into at each refinement round.
+const REFINE_PARTS: usize = 4;
+
+/// Relative slack below which a row counts as active (binding).
+const ACTIVE_SLACK: f64 = 1e-4;
+
+/// Refinement stops once the grid has this many times the segments it
+/// started with (bounds the work).
+const MAX_REFINED_GROWTH: usize = 8;
+
+/// The limits as the program uses them (scaled, margined).
+struct ProgramLimits {
+    /// `v_j²`, (rad/s)².
+    vel_sq: Vec<f64>,
+    /// `A_j`, rad/s².
+    acc: Vec<f64>,
+    /// Factor on every tool-speed cap.
+    tool_shrink: f64,
+}
+
+/// One solve of the program on one grid.
+struct Solved {
+    grid: PathGrid,
+    rows: SegmentRows,
+    solution: ProfileSolution,
+    /// Tool-speed caps near hands.
+    tool: Option<ToolCaps>,
+}
+
+/// The tool-speed cap of every segment near hands.
+struct ToolCaps {
+    /// Cap, m/s.
+    caps: Vec<f64>,
+    /// The cap is the separation formula's speed, growing with the hand
+    /// distance (not clamped to the reduced speed or the crawl floor).
+    graded: Vec<bool>,
+    summary: SeparationSummary,
+}
+
+impl Solved {
+    fn usable(&self) -> bool {
+        usable(&self.solution)
+    }
+
+    /// The exact discretised time `Σ 2Δs_i/(√b_i + √b_{i+1})`, seconds.
+    fn duration(&self) -> f64 {
+        let b = &self.solution.b;
+        (0..self.grid.segments())
+            .map(|i| 2.0 * self.grid.step(i) / (b[i].max(0.0).sqrt() + b[i + 1].max(0.0).sqrt()))
+            .sum()
+    }
+
+    /// Segments where a finer grid gains time: a row within
+    /// [`ACTIVE_SLACK`] of its bound, and that row conservative to first
+    /// order in `Δs` — an acceleration row, a speed row of a joint turning
+    /// round ([`grid::speed_rows_loose`]), or a tool-speed cap that grows
+    /// with the hand distance (not at the reduced speed or the crawl floor).
+    fn refinable(&self, spline: &PiecewiseCubic, acc: &[f64]) -> Vec<bool> {
+        let b = &self.solution.b;
+        (0..self.grid.segments())
+            .map(|i| {
+                let rows = &self.rows.rows[self.rows.offsets[i]..self.rows.offsets[i + 1]];
+                let active = rows
+                    .iter()
+                    .any(|(alpha, beta)| alpha * b[i] + beta * b[i + 1] >= 1.0 - ACTIVE_SLACK);
+                active
+                    && (grid::acceleration_bound(
+                        spline,
+                        &self.grid,
+                        i,
+                        acc,
+                        (b[i], b[i + 1]),
+                        ACTIVE_SLACK,
+                    ) || grid::speed_rows_loose(spline, &self.grid, i)
+                        || self.tool.as_ref().is_some_and(|t| t.graded[i]))
+            })
+            .collect()
+    }
+}
+
+fn usable(solution: &ProfileSolution) -> bool {
+    let n = solution.b.len() - 1;
+    matches!(
+        solution.outcome,
+        SolverOutcome::Solved | SolverOutcome::AlmostSolved
+    ) && solution.b[1..n].iter().all(|b| b.is_finite() && *b > 0.0)
+}
+
+/// Rows of every segment of `grid` (with the tool-speed caps near hands),
+/// then the program.
+fn solve_on_grid(
+    spline: &PiecewiseCubic,
+    grid: PathGrid,
+    limits: &ProgramLimits,
+    tool: Option<(&PiecewiseCubic, &Proximity)>,
+    settings: &TimingSettings,
+) -> Result<Solved, TimingError> {
+    let n = grid.segments();
+    let caps = tool
+        .map(|(tool, proximity)| tool_caps(proximity, tool, &grid))
+        .transpose()?;
+    let mut rows = SegmentRows {
+        offsets: Vec::with_capacity(n + 1),
+        rows: Vec::with_capacity(4 * n),
+    };
+    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
+    rows.offsets.push(0);
+    for i in 0..n {
+        seg_rows.clear();
+        let tool_i = tool
+            .zip(caps.as_ref())
+            .map(|((spline, _), t)| (spline, (t.caps[i] * limits.tool_shrink).powi(2)));
+        grid::segment_rows(
+            spline,
+            &grid,
+            i,
+            &limits.vel_sq,
+            &limits.acc,
+            tool_i,
+            &mut seg_rows,
+        );
+        // b_0 = b_N = 0: their coefficients vanish.
+        if i == 0 {
+            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
+        }
+        if i == n - 1 {
+            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
+        }
+        grid::prune_rows(&mut seg_rows, &mut scratch);
+        rows.rows.extend_from_slice(&seg_rows);
+        rows.offsets.push(rows.rows.len());
+    }
+    let solution = topp::solve_profile(
+        &grid,
+        &rows,
+        &ProgramSettings {
+            program: settings.program,
+            smoothing_weight: settings.smoothing_weight,
+            max_iterations: settings.max_iterations,
+            tolerance: settings.solver_tolerance,
+        },
+    );
+    Ok(Solved {
+        grid,
+        rows,
+        solution,
+        tool: caps,
+    })
 }
 
 fn at_rest(q: &[f64], started: Instant) -> Timing {
@@ -711,6 +891,7 @@ fn at_rest(q: &[f64], started: Instant) -> Timing {
             segments: 0,
             linear_rows: 0,
             solve_time_s: 0.0,
+            refinements: 0,
             total_time_s: started.elapsed().as_secs_f64(),
         },
         separation: None,

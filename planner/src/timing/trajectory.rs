@@ -17,9 +17,10 @@
 use afford_kinematics::{Arm, RobotModel};
 use serde::{Deserialize, Serialize};
 
+use crate::error::Refusal;
 use crate::scenario::Scenario;
 use crate::timing::{
-    Hand, JointLimits, JointTrajectory, Proximity, SeparationSettings, TimingSettings,
+    Hand, JointLimits, JointTrajectory, Proximity, SeparationSettings, Timing, TimingSettings,
     TrajectoryPoint, time_parameterize_tool,
 };
 
@@ -130,50 +131,57 @@ pub struct TimingRequest<'a> {
     pub settings: &'a TimingSettings,
 }
 
-/// Times the three pieces and joins them, with the arm resting while the
-/// gripper closes and opens. `Err` is the reason in words.
-pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, String> {
-    let limits = arm_limits(r.robot, r.arm);
-    let gripper = r.robot.gripper();
-    let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
-    let hands = hands(r.scenario);
+/// The path indices `(from, to)` of the three pieces of a sub-goal's path:
+/// to the grasp, carrying to the release, retreating.
+pub fn pieces(r: &TimingRequest) -> [(usize, usize); 3] {
     let (grasp, release) = r.switches;
+    [(0, grasp), (grasp, release), (release, r.path.len() - 1)]
+}
+
+/// Times the piece `r.path[from..=to]` with `settings` (the sub-goal's
+/// segments shared by the pieces by joint-space length, so the whole path
+/// is discretised as finely as one path of `settings.path_points`).
+pub fn time_piece(
+    r: &TimingRequest,
+    (from, to): (usize, usize),
+    settings: &TimingSettings,
+) -> Result<Timing, Refusal> {
+    let limits = arm_limits(r.robot, r.arm);
+    let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
+    let piece = &r.path[from..=to];
+    let proximity = Proximity {
+        tool_positions: piece.iter().map(|q| fk(q)).collect(),
+        hands: hands(r.scenario),
+        rule: r.separation.clone(),
+    };
     let total = chord(r.path).max(f64::EPSILON);
+    let share = (settings.path_points as f64 * chord(piece) / total).round() as usize;
+    let settings = TimingSettings {
+        path_points: share.max(MIN_PIECE_SEGMENTS),
+        ..settings.clone()
+    };
+    time_parameterize_tool(piece, &limits, Some(&proximity), Some(&fk), &settings)
+        .map_err(Refusal::from)
+}
+
+/// Times the three pieces and joins them, with the arm resting while the
+/// gripper closes and opens. `Err` is the typed reason.
+pub fn time_motion(r: &TimingRequest) -> Result<TimedMotion, Refusal> {
+    let gripper = r.robot.gripper();
     let mut motion = TimedMotion {
         points: Vec::new(),
         gripper: Vec::new(),
     };
-    for (from, to, event) in [
-        (
-            0,
-            grasp,
-            Some((GripperCommand::Close, gripper.closing_time)),
-        ),
-        (
-            grasp,
-            release,
-            Some((GripperCommand::Open, gripper.opening_time)),
-        ),
-        (release, r.path.len() - 1, None),
-    ] {
-        let piece = &r.path[from..=to];
-        let proximity = Proximity {
-            tool_positions: piece.iter().map(|q| fk(q)).collect(),
-            hands: hands.clone(),
-            rule: r.separation.clone(),
-        };
-        // The sub-goal's segments are shared by the pieces by length, so the
-        // whole path is discretised as finely as one path of `path_points`.
-        let share = (r.settings.path_points as f64 * chord(piece) / total).round() as usize;
-        let settings = TimingSettings {
-            path_points: share.max(MIN_PIECE_SEGMENTS),
-            ..r.settings.clone()
-        };
-        let timing = time_parameterize_tool(piece, &limits, Some(&proximity), Some(&fk), &settings)
-            .map_err(|e| e.to_string())?;
+    let events = [
+        Some((GripperCommand::Close, gripper.closing_time)),
+        Some((GripperCommand::Open, gripper.opening_time)),
+        None,
+    ];
+    for (piece, event) in pieces(r).into_iter().zip(events) {
+        let timing = time_piece(r, piece, r.settings)?;
         let trajectory = timing
             .trajectory
-            .ok_or_else(|| format!("timing failed: {}", timing.status))?;
+            .ok_or_else(|| Refusal::from_timing(&timing.status, &r.arm.joint_names))?;
         append(&mut motion, trajectory);
         if let Some((command, duration)) = event {
             let start = motion.duration();
@@ -249,7 +257,7 @@ pub fn arm_limits(robot: &RobotModel, arm: &Arm) -> JointLimits {
 }
 
 /// Each hand as the sphere around its box (base frame, metres).
-fn hands(s: &Scenario) -> Vec<Hand> {
+pub fn hands(s: &Scenario) -> Vec<Hand> {
     let [mu, mv] = s.metres_per_pixel();
     s.hands
         .iter()

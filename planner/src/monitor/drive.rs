@@ -1,0 +1,417 @@
+//! Driving the execution: one controller period at a time along the
+//! current sub-goal ([`super::execute`]), the gripper commands played as
+//! planned, sub-goals chained, replans and new work taken over at rest, and
+//! the verdicts turned into speed commands and event-log entries.
+
+use crate::instruction::SubGoal;
+use crate::plan::{HeldObject, MidExecution, Plan, Planner};
+use crate::trajectory::{GripperCommand, GripperEvent, TimedMotion, arm_limits};
+
+use super::belief::Placed;
+use super::decide::put_in_goal;
+use super::execute::{self, Cursor, planned_position};
+use super::track::Track;
+use super::{Event, ExecutedSubgoal, Monitor, Pending, Reason, Status, Verdict};
+
+/// Most controller periods a braking stop is simulated for.
+const MAX_BRAKING_STEPS: usize = 100_000;
+
+impl Monitor {
+    /// The trajectory of the sub-goal under way.
+    pub(super) fn motion(&self) -> &TimedMotion {
+        self.plan.subgoals[self.current]
+            .trajectory
+            .as_ref()
+            .expect("monitored plans are timed")
+    }
+
+    /// The object in the gripper now and the box it was grasped from.
+    pub(super) fn holds(&self) -> Option<(&str, crate::scenario::PixelBox)> {
+        let track = &self.tracks[self.current];
+        track
+            .holding(self.cursor.s)
+            .then_some(self.held.as_ref())
+            .flatten()
+            .map(|h| (h.object.as_str(), h.grasped_box))
+    }
+
+    /// Takes `plan` over from its first sub-goal.
+    pub(super) fn adopt(&mut self, plan: Plan) {
+        self.tracks = plan
+            .subgoals
+            .iter()
+            .map(|g| {
+                let arm = self
+                    .robot
+                    .arm(g.arm.as_deref().unwrap_or_default())
+                    .unwrap_or(&self.robot.arms()[0]);
+                Track::new(g, arm, &self.scene)
+            })
+            .collect();
+        self.planned_boxes = plan.subgoals.iter().map(Track::planned_box).collect();
+        let continues = self.executed.last().is_some_and(|e| {
+            let first = &plan.subgoals[0];
+            self.current < self.plan.subgoals.len()
+                && e.object == first.object
+                && Some(&e.arm) == first.arm.as_ref()
+        });
+        self.plan.subgoals = plan.subgoals;
+        self.plan.unsolved.extend(plan.unsolved);
+        self.current = 0;
+        self.cursor = Cursor::at(0, 0.0, 0.0);
+        self.trigger = None;
+        if !continues {
+            self.begin_subgoal();
+        }
+    }
+
+    /// Starts the executed record of the sub-goal under way.
+    fn begin_subgoal(&mut self) {
+        let g = &self.plan.subgoals[self.current];
+        let mut first = self.motion().points[0].clone();
+        first.time_from_start = 0.0;
+        self.executed.push(ExecutedSubgoal {
+            object: g.object.clone(),
+            goal: g.goal.clone(),
+            arm: g.arm.clone().unwrap_or_default(),
+            joint_names: g.joint_names.clone().unwrap_or_default(),
+            start_time: self.clock,
+            trajectory: TimedMotion {
+                points: vec![first],
+                gripper: Vec::new(),
+            },
+            scene: None,
+            scene_at_start: Some(self.scene.clone()),
+        });
+    }
+
+    /// One interval of the plan (or one controller period at rest).
+    pub(super) fn tick(&mut self) {
+        if self.cursor.sigma <= 0.0 {
+            if let Some(Pending::AtRest(_)) = &self.pending {
+                let Some(Pending::AtRest(plan)) = self.pending.take() else {
+                    unreachable!("matched above")
+                };
+                self.adopt(plan);
+            }
+            if let Some(reason) = self.aborting.clone() {
+                self.status = Status::Aborted(reason);
+                return;
+            }
+        }
+        let motion = self.motion().clone();
+        if let Some(event) = motion
+            .gripper
+            .iter()
+            .find(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start)
+        {
+            self.play_gripper(&motion, *event);
+        } else {
+            let limits = arm_limits(&self.robot, self.current_arm());
+            let step = execute::step(&motion, &limits, &self.cursor, self.command, self.dt);
+            self.cursor = step.cursor;
+            self.clock += step.duration;
+            self.record(step.point);
+        }
+        if self.cursor.index + 1 >= motion.points.len() {
+            self.end_subgoal();
+        }
+    }
+
+    /// The arm rests while the gripper acts: the planned rest is played
+    /// as it is, and the command recorded at its executed times.
+    fn play_gripper(&mut self, motion: &TimedMotion, event: GripperEvent) {
+        let start = self.clock;
+        let mut index = self.cursor.index;
+        for (i, p) in motion.points.iter().enumerate().filter(|(_, p)| {
+            p.time_from_start > event.start + 1e-9 && p.time_from_start <= event.end + 1e-9
+        }) {
+            self.clock = start + (p.time_from_start - event.start);
+            self.record(p.clone());
+            index = i;
+        }
+        let base = self.executed.last().map_or(0.0, |e| e.start_time);
+        if let Some(e) = self.executed.last_mut() {
+            e.trajectory.gripper.push(GripperEvent {
+                command: event.command,
+                start: start - base,
+                end: self.clock - base,
+            });
+        }
+        if event.command == GripperCommand::Close {
+            self.held = Some(self.grasp_record(motion, event.start));
+        }
+        self.cursor = Cursor::at(index, motion.points[index].time_from_start, 1.0);
+    }
+
+    /// What the robot knows of the object it closes on at plan time `s`.
+    fn grasp_record(&self, motion: &TimedMotion, s: f64) -> HeldObject {
+        let g = &self.plan.subgoals[self.current];
+        HeldObject {
+            object: g.object.clone(),
+            grasped_box: self.planned_boxes[self.current],
+            arm: g.arm.clone().unwrap_or_default(),
+            grasp: planned_position(&motion.points, s),
+        }
+    }
+
+    /// Appends an executed sample (its time the execution clock).
+    fn record(&mut self, mut point: crate::timing::TrajectoryPoint) {
+        if let Some(e) = self.executed.last_mut() {
+            point.time_from_start = self.clock - e.start_time;
+            e.trajectory.points.push(point);
+        }
+    }
+
+    fn current_arm(&self) -> &afford_kinematics::Arm {
+        self.robot
+            .arm(
+                self.plan.subgoals[self.current]
+                    .arm
+                    .as_deref()
+                    .unwrap_or_default(),
+            )
+            .unwrap_or(&self.robot.arms()[0])
+    }
+
+    /// The sub-goal under way is done: its object rests in its goal, the
+    /// next sub-goal (or a replan, or the new work) takes over.
+    fn end_subgoal(&mut self) {
+        let g = self.plan.subgoals[self.current].clone();
+        let last = self.motion().points.last().map(|p| p.positions.clone());
+        if let Some(q) = last {
+            let arm = self.current_arm().clone();
+            arm.insert(&mut self.joints, &q);
+        }
+        if let (Some(i), Some(goal)) = (
+            self.scene.object_index(&g.object),
+            self.scene.goals.iter().find(|x| x.name == g.goal),
+        ) {
+            let mut object = self.scene.objects[i].clone();
+            object.bbox = object.bbox.centred_at(g.release_px);
+            self.placed.push(Placed {
+                offset: [object.bbox.u - goal.bbox.u, object.bbox.v - goal.bbox.v],
+                object,
+                goal: g.goal.clone(),
+            });
+        }
+        let mut seen = self.scene.clone();
+        if let Some(e) = self.executed.last_mut() {
+            if let Some(start) = &e.scene_at_start {
+                seen.objects
+                    .retain(|o| o.name == g.object || start.objects.contains(o));
+                seen.hands.retain(|h| start.hands.contains(h));
+            }
+            if let (Some(i), Some(held)) = (seen.object_index(&g.object), &self.held) {
+                seen.objects[i].bbox = held.grasped_box;
+            }
+            e.scene = Some(seen);
+        }
+        put_in_goal(&mut self.scene, &g);
+        self.done.push(g.object.clone());
+        self.held = None;
+        self.current += 1;
+        let next = match self.pending.take() {
+            Some(Pending::AtEnd(plan)) | Some(Pending::AtRest(plan)) => Some(plan),
+            None => None,
+        };
+        match next {
+            Some(plan) => self.adopt(plan),
+            None if self.current < self.plan.subgoals.len() => {
+                self.cursor = Cursor::at(0, 0.0, 0.0);
+                self.trigger = None;
+                self.begin_subgoal();
+            }
+            None => self.take_new_work(),
+        }
+    }
+
+    /// After the last sub-goal: plan the new work from here, or finish.
+    fn take_new_work(&mut self) {
+        if self.new_work.is_empty() {
+            self.current -= 1;
+            self.status = Status::Completed;
+            return;
+        }
+        let goals: Vec<SubGoal> = std::mem::take(&mut self.new_work);
+        let from = MidExecution {
+            joints: self.joints.clone(),
+            held: None,
+        };
+        let planner = Planner::new(self.options.clone());
+        match planner.plan_from_loaded(&self.scene, &self.robot, &self.geometry, &goals, &from) {
+            Ok(plan) if !plan.subgoals.is_empty() => self.adopt(plan),
+            result => {
+                self.current -= 1;
+                let message = match result {
+                    Err(e) => e.to_string(),
+                    Ok(plan) => unsolved_text(&plan),
+                };
+                self.status = Status::Aborted(Reason::NoPlan { message });
+            }
+        }
+    }
+
+    /// A replan from where braking now brings the robot to rest (`now`),
+    /// or from the end of the sub-goal under way.
+    pub(super) fn replan(&mut self, reason: Reason, now: bool) -> Verdict {
+        let (from, goals, scene) = match now {
+            true => self.rest_state(),
+            false => self.end_state(),
+        };
+        if goals.is_empty() {
+            return Verdict::Continue;
+        }
+        let planner = Planner::new(self.options.clone());
+        let planned = planner.plan_from_loaded(&scene, &self.robot, &self.geometry, &goals, &from);
+        match planned {
+            Ok(plan)
+                if plan
+                    .subgoals
+                    .first()
+                    .is_some_and(|g| g.object == goals[0].object) =>
+            {
+                self.pending = Some(match now {
+                    true => Pending::AtRest(plan.clone()),
+                    false => Pending::AtEnd(plan.clone()),
+                });
+                Verdict::Replan {
+                    plan: Box::new(plan),
+                    reason,
+                }
+            }
+            Ok(plan) => Verdict::Abort {
+                reason: Reason::NoPlan {
+                    message: format!("{reason}; {}", unsolved_text(&plan)),
+                },
+            },
+            Err(e) => Verdict::Abort {
+                reason: Reason::NoPlan {
+                    message: format!("{reason}; {e}"),
+                },
+            },
+        }
+    }
+
+    /// Where braking now ends: the state, the sub-goals left, the scene.
+    fn rest_state(&self) -> (MidExecution, Vec<SubGoal>, crate::Scenario) {
+        let motion = self.motion();
+        let limits = arm_limits(&self.robot, self.current_arm());
+        let stop =
+            execute::stopping_point(motion, &limits, &self.cursor, self.dt, MAX_BRAKING_STEPS);
+        let mut joints = self.joints.clone();
+        self.current_arm()
+            .insert(&mut joints, &planned_position(&motion.points, stop.s));
+        let held = self
+            .held
+            .clone()
+            .filter(|_| self.tracks[self.current].holding(stop.s));
+        let goals = self.goals_from(self.current);
+        (MidExecution { joints, held }, goals, self.scene.clone())
+    }
+
+    /// The end of the sub-goal under way: the state, the sub-goals after
+    /// it, the scene with its object in its goal.
+    fn end_state(&self) -> (MidExecution, Vec<SubGoal>, crate::Scenario) {
+        let mut joints = self.joints.clone();
+        if let Some(last) = self.motion().points.last() {
+            self.current_arm().insert(&mut joints, &last.positions);
+        }
+        let mut scene = self.scene.clone();
+        put_in_goal(&mut scene, &self.plan.subgoals[self.current]);
+        let goals = self.goals_from(self.current + 1);
+        (MidExecution { joints, held: None }, goals, scene)
+    }
+
+    fn goals_from(&self, k: usize) -> Vec<SubGoal> {
+        self.plan.subgoals[k.min(self.plan.subgoals.len())..]
+            .iter()
+            .map(|g| SubGoal {
+                object: g.object.clone(),
+                goal: g.goal.clone(),
+            })
+            .collect()
+    }
+
+    /// Turns a verdict into the speed command.
+    pub(super) fn act(&mut self, verdict: &Verdict) {
+        match verdict {
+            Verdict::Continue => {
+                self.command = 1.0;
+                self.waiting_since = None;
+            }
+            Verdict::Slow { scale } => {
+                self.command = *scale;
+                self.waiting_since = None;
+            }
+            Verdict::Stop => self.command = 0.0,
+            Verdict::Wait { .. } => {
+                self.command = 0.0;
+                self.waiting_since.get_or_insert(self.clock);
+            }
+            Verdict::Replan { .. } => {
+                if matches!(self.pending, Some(Pending::AtRest(_))) {
+                    self.command = 0.0;
+                }
+            }
+            Verdict::NewWork { .. } => {}
+            Verdict::Abort { reason } => {
+                self.command = 0.0;
+                self.aborting = Some(reason.clone());
+            }
+        }
+    }
+
+    /// Logs a verdict that changes what the robot does, or one taken on a
+    /// changed scene.
+    pub(super) fn log(
+        &mut self,
+        verdict: &Verdict,
+        changes: &[String],
+        decision_us: f64,
+        replan_ms: Option<f64>,
+    ) {
+        // Braking for a replan is part of the replan's event.
+        if changes.is_empty() && matches!(self.pending, Some(Pending::AtRest(_))) {
+            return;
+        }
+        let name = verdict.name();
+        let scale = match verdict {
+            Verdict::Slow { scale } => Some(*scale),
+            _ => None,
+        };
+        // A standing verdict is logged once; replans and new work each time.
+        let standing = !matches!(verdict, Verdict::Replan { .. } | Verdict::NewWork { .. });
+        if changes.is_empty() && standing && name == self.last {
+            return;
+        }
+        self.last = name;
+        let subgoals = match verdict {
+            Verdict::NewWork { subgoals } => subgoals
+                .iter()
+                .map(|g| format!("{} → {}", g.object, g.goal))
+                .collect(),
+            _ => Vec::new(),
+        };
+        self.events.push(Event {
+            time: self.clock,
+            changes: changes.to_vec(),
+            verdict: name,
+            reason: verdict.reason().cloned(),
+            message: verdict.reason().map(|r| r.to_string()),
+            scale,
+            subgoals,
+            decision_us,
+            replan_ms,
+        });
+    }
+}
+
+/// The unsolved sub-goals of a plan, in words.
+fn unsolved_text(plan: &Plan) -> String {
+    plan.unsolved
+        .iter()
+        .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
+        .collect::<Vec<_>>()
+        .join("; ")
+}

@@ -1,0 +1,266 @@
+//! The timing stage measured on the real paths of afford's examples (every
+//! `examples/*.yaml`, embedded): per sub-goal the moving time against the
+//! converged time-optimal duration on the same path and limits, the timing
+//! stage's wall time, the joints' direction reversals and the peak jerk of
+//! the samples. `afford bench timing` reports the largest figures.
+//!
+//! The **reference** is the same convex program on a grid [`REFERENCE_DENSITY`]
+//! times finer, refined where a constraint binds until a round gains less
+//! than 1e-6 of the duration: the program's per-segment bounds only ever
+//! cost time, and that cost vanishes as the segments shrink, so this is the
+//! converged time-optimal duration (checked against toppra run on a fine
+//! grid by `scripts/toppra_reference.py`, docs/decisions.md).
+
+use std::time::Instant;
+
+use afford_kinematics::RobotModel;
+use serde::Serialize;
+
+use super::run::TimingSettings;
+use super::trajectory::{TimedMotion, TimingRequest, pieces, time_piece};
+use crate::plan::{PlanOptions, SubgoalPlan, plan};
+use crate::scenario::{Format, Scenario, parse};
+
+/// Every example scenario, by file name.
+pub const EXAMPLES: [(&str, &str); 16] = [
+    (
+        "cob4-extra-pieces",
+        include_str!("../../../examples/cob4-extra-pieces.yaml"),
+    ),
+    (
+        "cob4-hand-blocks-goal",
+        include_str!("../../../examples/cob4-hand-blocks-goal.yaml"),
+    ),
+    (
+        "cob4-hand-on-route",
+        include_str!("../../../examples/cob4-hand-on-route.yaml"),
+    ),
+    (
+        "cob4-here-pointing",
+        include_str!("../../../examples/cob4-here-pointing.yaml"),
+    ),
+    (
+        "cob4-joint-state-start",
+        include_str!("../../../examples/cob4-joint-state-start.yaml"),
+    ),
+    (
+        "cob4-sensitive-yellow",
+        include_str!("../../../examples/cob4-sensitive-yellow.yaml"),
+    ),
+    (
+        "cob4-sort-blue-squares",
+        include_str!("../../../examples/cob4-sort-blue-squares.yaml"),
+    ),
+    (
+        "cob4-unsolvable-instruction",
+        include_str!("../../../examples/cob4-unsolvable-instruction.yaml"),
+    ),
+    (
+        "extra-pieces",
+        include_str!("../../../examples/extra-pieces.yaml"),
+    ),
+    (
+        "hand-blocks-goal",
+        include_str!("../../../examples/hand-blocks-goal.yaml"),
+    ),
+    (
+        "hand-on-route",
+        include_str!("../../../examples/hand-on-route.yaml"),
+    ),
+    (
+        "here-pointing",
+        include_str!("../../../examples/here-pointing.yaml"),
+    ),
+    (
+        "joint-state-start",
+        include_str!("../../../examples/joint-state-start.yaml"),
+    ),
+    (
+        "sensitive-yellow",
+        include_str!("../../../examples/sensitive-yellow.yaml"),
+    ),
+    (
+        "sort-blue-squares",
+        include_str!("../../../examples/sort-blue-squares.yaml"),
+    ),
+    (
+        "unsolvable-instruction",
+        include_str!("../../../examples/unsolvable-instruction.yaml"),
+    ),
+];
+
+/// The reference grid is this many times finer than the default one.
+pub const REFERENCE_DENSITY: usize = 8;
+
+/// A velocity counts as moving one way beyond this, rad/s (m/s).
+pub const REVERSAL_THRESHOLD: f64 = 1e-3;
+
+/// Figures of one planned sub-goal of one example.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SubgoalFigures {
+    pub example: String,
+    pub subgoal: usize,
+    /// Moving time (the three pieces, gripper dwell excluded), seconds.
+    pub duration_s: f64,
+    /// The converged time-optimal moving time on the same path, seconds.
+    pub reference_s: f64,
+    /// `duration_s / reference_s`.
+    pub ratio_to_optimal: f64,
+    /// Wall time of the timing stage (three pieces, default settings), ms.
+    pub timing_ms: f64,
+    /// Most direction reversals of one joint over the sub-goal's samples.
+    pub max_velocity_reversals: usize,
+    /// The joint with that many.
+    pub reversal_joint: String,
+    /// Largest `|a_{k+1} − a_k| / (t_{k+1} − t_k)` of any joint, rad/s³ (m/s³).
+    pub peak_jerk: f64,
+    /// The joint with it.
+    pub jerk_joint: String,
+    /// Largest jerk over the joint's limit (robot description), any joint.
+    pub jerk_ratio: f64,
+}
+
+/// The settings of the reference solve (see the module docs).
+pub fn reference_settings(settings: &TimingSettings) -> TimingSettings {
+    TimingSettings {
+        path_points: settings.path_points * REFERENCE_DENSITY,
+        refine_rounds: 12,
+        refine_tolerance: 1e-6,
+        ..settings.clone()
+    }
+}
+
+/// Plans every example with `options` and measures every planned sub-goal.
+/// Examples that do not parse or plan are skipped.
+pub fn measure_examples(options: &PlanOptions) -> Vec<SubgoalFigures> {
+    let mut out = Vec::new();
+    for (name, text) in EXAMPLES {
+        let Ok(scenario) = parse(text, Format::Yaml, name) else {
+            continue;
+        };
+        let Ok(robot) = RobotModel::builtin(&scenario.robot.model) else {
+            continue;
+        };
+        let Ok(planned) = plan(&scenario, options) else {
+            continue;
+        };
+        for (k, sub) in planned.subgoals.iter().enumerate() {
+            if let Some(figures) = measure_subgoal(&scenario, &robot, sub, &options.timing) {
+                out.push(SubgoalFigures {
+                    example: name.to_string(),
+                    subgoal: k,
+                    ..figures
+                });
+            }
+        }
+    }
+    out
+}
+
+fn measure_subgoal(
+    scenario: &Scenario,
+    robot: &RobotModel,
+    sub: &SubgoalPlan,
+    settings: &TimingSettings,
+) -> Option<SubgoalFigures> {
+    let (trajectory, path, arm_name) = (
+        sub.trajectory.as_ref()?,
+        sub.joint_path.as_ref()?,
+        sub.arm.as_ref()?,
+    );
+    let arm = robot.arm(arm_name).ok()?;
+    let (taken, left) = trajectory.gripper_samples();
+    let at = |sample: usize| {
+        path.iter()
+            .position(|q| *q == trajectory.points[sample].positions)
+    };
+    let request = TimingRequest {
+        scenario,
+        robot,
+        arm,
+        path,
+        switches: (at(taken)?, at(left)?),
+        separation: &scenario.safety.separation,
+        settings,
+    };
+    let reference = reference_settings(settings);
+    let (mut duration_s, mut reference_s, mut timing_ms) = (0.0, 0.0, 0.0);
+    for piece in pieces(&request) {
+        let started = Instant::now();
+        let timed = time_piece(&request, piece, settings).ok()?;
+        timing_ms += started.elapsed().as_secs_f64() * 1e3;
+        duration_s += timed.duration()?;
+        reference_s += time_piece(&request, piece, &reference).ok()?.duration()?;
+    }
+    let (max_velocity_reversals, reversal_joint) = most_reversals(trajectory);
+    let jerk_limits: Vec<f64> = arm
+        .joint_indices
+        .iter()
+        .map(|&i| robot.joints()[i].jerk)
+        .collect();
+    let (jerk_ratio, _) = peak_jerk(trajectory, Some(&jerk_limits));
+    let (peak_jerk, jerk_joint) = peak_jerk(trajectory, None);
+    Some(SubgoalFigures {
+        example: String::new(),
+        subgoal: 0,
+        duration_s,
+        reference_s,
+        ratio_to_optimal: duration_s / reference_s,
+        timing_ms,
+        max_velocity_reversals,
+        reversal_joint: arm.joint_names[reversal_joint].clone(),
+        peak_jerk,
+        jerk_joint: arm.joint_names[jerk_joint].clone(),
+        jerk_ratio,
+    })
+}
+
+/// Direction reversals of joint `j`: sign changes of its velocity, counting
+/// only samples beyond [`REVERSAL_THRESHOLD`] (a rest in between does not
+/// hide a reversal).
+pub fn velocity_reversals(motion: &TimedMotion, j: usize) -> usize {
+    let mut last = 0.0_f64;
+    let mut count = 0;
+    for p in &motion.points {
+        let v = p.velocities[j];
+        if v.abs() > REVERSAL_THRESHOLD {
+            if last != 0.0 && v.signum() != last {
+                count += 1;
+            }
+            last = v.signum();
+        }
+    }
+    count
+}
+
+/// The most reversals of any joint, and that joint's index.
+fn most_reversals(motion: &TimedMotion) -> (usize, usize) {
+    let joints = motion.points.first().map_or(0, |p| p.velocities.len());
+    (0..joints)
+        .map(|j| (velocity_reversals(motion, j), j))
+        .fold((0, 0), |best, x| if x.0 > best.0 { x } else { best })
+}
+
+/// Largest jerk of any joint between consecutive samples (over its limit
+/// when `limits` are given), and its joint.
+pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
+    let mut best = (0.0, 0);
+    for w in motion.points.windows(2) {
+        let dt = w[1].time_from_start - w[0].time_from_start;
+        if dt <= 0.0 {
+            continue;
+        }
+        for (j, (a0, a1)) in w[0]
+            .accelerations
+            .iter()
+            .zip(&w[1].accelerations)
+            .enumerate()
+        {
+            let jerk = (a1 - a0).abs() / dt / limits.map_or(1.0, |l| l[j]);
+            if jerk > best.0 {
+                best = (jerk, j);
+            }
+        }
+    }
+    best
+}

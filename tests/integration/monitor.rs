@@ -1,0 +1,222 @@
+//! `afford run` on the monitor examples (examples/monitor/, both robots):
+//! each produces the events its header announces, its executed timeline
+//! passed the independent check (afford run writes nothing otherwise),
+//! the same scenario and seed give byte-identical output, and bad
+//! observations are bad input.
+
+use serde_json::Value;
+
+use crate::util::{afford, scratch_dir};
+
+/// The verdicts of the event log, in order, and the outcome.
+fn run(example: &str) -> (Vec<String>, Value) {
+    let path = format!("examples/monitor/{example}");
+    let result = afford(&["run", &path]);
+    result.assert_no_panic();
+    let json = result.json();
+    let verdicts = json["events"]
+        .as_array()
+        .expect("events")
+        .iter()
+        .map(|e| e["verdict"].as_str().expect("verdict").to_string())
+        .collect();
+    (verdicts, json)
+}
+
+fn reasons(json: &Value) -> Vec<String> {
+    json["events"]
+        .as_array()
+        .expect("events")
+        .iter()
+        .filter_map(|e| e["reason"]["kind"].as_str().map(str::to_string))
+        .collect()
+}
+
+fn completed(json: &Value, subgoals: usize) {
+    assert_eq!(json["outcome"], "completed", "{json:#}");
+    assert_eq!(
+        json["subgoals"].as_array().expect("subgoals").len(),
+        subgoals
+    );
+    for s in json["subgoals"].as_array().expect("subgoals") {
+        let events: Vec<&str> = s["trajectory"]["gripper"]
+            .as_array()
+            .expect("gripper")
+            .iter()
+            .map(|e| e["command"].as_str().expect("command"))
+            .collect();
+        assert_eq!(events, ["close", "open"], "one grasp per executed sub-goal");
+    }
+}
+
+#[test]
+fn monitor_hand_in_the_way_waits_then_resumes_both_robots() {
+    for robot in ["", "cob4-"] {
+        let (verdicts, json) = run(&format!("{robot}hand-in-the-way.yaml"));
+        assert_eq!(verdicts, ["wait", "continue"], "{robot}");
+        assert_eq!(reasons(&json), ["hand_on_route"]);
+        completed(&json, 1);
+        let wait = json["events"][0]["time"].as_f64().expect("time");
+        let resume = json["events"][1]["time"].as_f64().expect("time");
+        let points = json["subgoals"][0]["trajectory"]["points"]
+            .as_array()
+            .expect("points");
+        // The robot rests between braking and resuming: a sample every period.
+        let resting = points.iter().filter(|p| {
+            let t = p["time_from_start"].as_f64().expect("t");
+            t > wait + 1.0 && t < resume - 0.01
+        });
+        for p in resting {
+            let speeds = p["velocities"].as_array().expect("velocities");
+            assert!(speeds.iter().all(|v| v.as_f64() == Some(0.0)), "{p}");
+        }
+    }
+}
+
+#[test]
+fn monitor_goal_moved_while_holding_replans_and_drops_in_the_moved_box() {
+    let (verdicts, json) = run("goal-moved-while-holding.yaml");
+    assert_eq!(verdicts, ["replan", "continue"]);
+    assert_eq!(reasons(&json), ["goal_moved"]);
+    completed(&json, 1);
+}
+
+#[test]
+fn monitor_goal_moved_on_the_care_o_bot_parks_through_a_planned_transit() {
+    // Was an abort: the replanned carry's straight way back to park hit the
+    // table. The park transit is now collision-aware (RRT-Connect).
+    let (verdicts, json) = run("cob4-goal-moved-while-holding.yaml");
+    assert_eq!(verdicts, ["replan", "continue"]);
+    assert_eq!(reasons(&json), ["goal_moved"]);
+    completed(&json, 1);
+}
+
+#[test]
+fn monitor_pieces_added_become_new_work_both_robots() {
+    for robot in ["", "cob4-"] {
+        let (verdicts, json) = run(&format!("{robot}pieces-added.yaml"));
+        assert_eq!(verdicts[0], "new_work", "{robot}: {verdicts:?}");
+        let new: Vec<&str> = json["events"][0]["subgoals"]
+            .as_array()
+            .expect("new work")
+            .iter()
+            .map(|s| s.as_str().expect("text"))
+            .collect();
+        assert_eq!(
+            new,
+            ["blue-square-3 → left box", "blue-square-4 → left box"]
+        );
+        completed(&json, 4);
+        let objects: Vec<&str> = json["subgoals"]
+            .as_array()
+            .expect("subgoals")
+            .iter()
+            .map(|s| s["object"].as_str().expect("object"))
+            .collect();
+        assert!(
+            !objects.contains(&"red-square-1"),
+            "the red piece is not asked for"
+        );
+    }
+}
+
+#[test]
+fn monitor_hand_approaching_slows_without_stopping_both_robots() {
+    for robot in ["", "cob4-"] {
+        let (verdicts, json) = run(&format!("{robot}hand-approaching.yaml"));
+        assert_eq!(
+            verdicts.first().map(String::as_str),
+            Some("slow"),
+            "{robot}"
+        );
+        assert!(
+            !verdicts.iter().any(|v| v == "stop" || v == "wait"),
+            "{verdicts:?}"
+        );
+        let scale = json["events"][0]["scale"].as_f64().expect("scale");
+        assert!(scale > 0.0 && scale < 1.0, "{scale}");
+        completed(&json, 1);
+    }
+}
+
+#[test]
+fn monitor_piece_moved_away_changes_nothing_both_robots() {
+    for robot in ["", "cob4-"] {
+        let (verdicts, json) = run(&format!("{robot}piece-moved-away.yaml"));
+        assert_eq!(verdicts, ["continue"], "{robot}");
+        assert_eq!(json["events"][0]["changes"][0], "object red-square-1 moved");
+        completed(&json, 1);
+        // Nothing happened: the executed timeline is the plan's own.
+        let planned = afford(&[
+            "plan",
+            &format!("examples/monitor/{robot}piece-moved-away.yaml"),
+        ]);
+        let planned = planned.json();
+        assert_eq!(
+            json["subgoals"][0]["trajectory"]["points"]
+                .as_array()
+                .map(Vec::len),
+            planned["subgoals"][0]["trajectory"]["points"]
+                .as_array()
+                .map(Vec::len)
+        );
+    }
+}
+
+#[test]
+fn monitor_run_same_scenario_and_seed_byte_identical() {
+    for example in ["goal-moved-while-holding.yaml", "cob4-pieces-added.yaml"] {
+        let path = format!("examples/monitor/{example}");
+        let a = afford(&["run", &path, "--seed", "3"]);
+        let b = afford(&["run", &path, "--seed", "3"]);
+        a.assert_no_panic();
+        assert!(a.stdout.contains("\"events\""), "{example}: {}", a.stderr);
+        assert_eq!(a.stdout, b.stdout, "{example}");
+        let yaml = afford(&["run", &path, "--format", "yaml"]);
+        assert_eq!(
+            yaml.stdout,
+            afford(&["run", &path, "--format", "yaml"]).stdout
+        );
+    }
+}
+
+#[test]
+fn monitor_run_bad_observation_is_bad_input_naming_the_field() {
+    let dir = scratch_dir("monitor-bad-observation");
+    let text =
+        std::fs::read_to_string(crate::util::repo().join("examples/monitor/hand-in-the-way.yaml"))
+            .expect("example");
+    let bad = text.replace("fraction: 0.2", "fraction: 2.0");
+    let path = dir.join("bad.yaml");
+    std::fs::write(&path, bad).expect("write");
+    let result = afford(&["run", path.to_str().expect("path")]);
+    result.assert_code(2).assert_no_panic();
+    assert!(
+        result.stderr.contains("observations[0].when.fraction"),
+        "{}",
+        result.stderr
+    );
+    assert!(result.stdout.is_empty(), "nothing written on bad input");
+}
+
+#[test]
+fn monitor_run_csv_has_one_row_per_executed_sample_with_events() {
+    let result = afford(&[
+        "run",
+        "examples/monitor/hand-in-the-way.yaml",
+        "--format",
+        "csv",
+    ]);
+    result.assert_code(0);
+    let mut lines = result.stdout.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(
+        &header[..6],
+        ["time", "subgoal", "object", "arm", "gripper", "event"]
+    );
+    let events: Vec<&str> = lines
+        .filter_map(|l| l.split(',').nth(5))
+        .filter(|e| !e.is_empty())
+        .collect();
+    assert_eq!(events, ["wait", "continue"]);
+}
