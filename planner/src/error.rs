@@ -215,6 +215,11 @@ pub enum Refusal {
         /// How far inside the perimeter (≥ 0).
         depth_m: f64,
     },
+    /// No arm found a collision-free transit (out of park, between
+    /// sub-goals, back to park) within the transit planner's budget; each
+    /// arm's failed transit, for every IK start tried.
+    #[error("no collision-free transit: {}", transit_failures(arms))]
+    NoTransit { arms: Vec<TransitFailure> },
     /// The time-optimal program found no motion along the joint path.
     #[error("timing failed: {}", TimingStatus::SolverStopped { outcome: *outcome })]
     TimingSolver { outcome: SolverOutcome },
@@ -262,6 +267,16 @@ pub struct ArmFailure {
     /// What the robot does on the way to it.
     pub phase: Option<Phase>,
     pub cause: IkFailure,
+}
+
+/// One arm's transit that the transit planner did not find.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TransitFailure {
+    pub arm: String,
+    /// [`HitPlace::ToFirstWaypoint`] or [`HitPlace::ReturningToPark`].
+    pub place: HitPlace,
+    /// Why, in words (the search's budget).
+    pub reason: String,
 }
 
 /// Where on a sub-goal's motion a collision is.
@@ -324,6 +339,7 @@ impl Refusal {
             Self::Unreachable { .. } => "unreachable",
             Self::JointLimit { .. } => "joint_limit",
             Self::Collides { .. } => "collides",
+            Self::NoTransit { .. } => "no_transit",
             Self::TimingSolver { .. } => "timing_solver",
             Self::TimingLimit { .. } => "timing_limit",
             Self::TooSlow { .. } => "too_slow",
@@ -333,7 +349,7 @@ impl Refusal {
     }
 
     /// Every kind [`Refusal::kind`] returns, in declaration order.
-    pub const KINDS: [&'static str; 18] = [
+    pub const KINDS: [&'static str; 19] = [
         "hand_covers_target",
         "hand_covers_gripper",
         "hand_blocks_route",
@@ -347,6 +363,7 @@ impl Refusal {
         "unreachable",
         "joint_limit",
         "collides",
+        "no_transit",
         "timing_solver",
         "timing_limit",
         "too_slow",
@@ -462,6 +479,13 @@ fn arm_failures(arms: &[ArmFailure]) -> String {
                 a.cause
             )
         })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+fn transit_failures(arms: &[TransitFailure]) -> String {
+    arms.iter()
+        .map(|a| format!("arm '{}' {}: {}", a.arm, a.place, a.reason))
         .collect::<Vec<_>>()
         .join("; ")
 }
@@ -669,8 +693,28 @@ mod tests {
     }
 
     #[test]
+    fn refusal_no_transit_names_each_arm_where_and_why() {
+        let r = Refusal::NoTransit {
+            arms: vec![TransitFailure {
+                arm: "left".into(),
+                place: HitPlace::ReturningToPark,
+                reason: "budget ran out".into(),
+            }],
+        };
+        let v = json(&r);
+        assert_eq!(v["kind"], "no_transit");
+        assert_eq!(v["arms"][0]["arm"], "left");
+        assert_eq!(v["arms"][0]["place"]["during"], "returning_to_park");
+        assert_eq!(
+            r.to_string(),
+            "no collision-free transit: arm 'left' returning to the park posture: budget ran out"
+        );
+    }
+
+    #[test]
     fn refusal_kinds_list_every_variant_kind() {
         let samples = [
+            Refusal::NoTransit { arms: Vec::new() },
             Refusal::HandCoversGripper,
             Refusal::LearnerBudget { training_steps: 1 },
             Refusal::internal("IK", "x"),

@@ -13,21 +13,23 @@ use afford_kinematics::{PathSettings, RobotModel};
 
 use serde::{Deserialize, Serialize};
 
-use crate::clearance::{ArmMotion, PathHit, check_motion, gripper_reach};
+use crate::clearance::{ArmMotion, FreeMoves, Leg, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
-use crate::error::{FieldIssue, HitPlace, PlanError, Refusal};
+use crate::error::{FieldIssue, HitPlace, PlanError, Refusal, TransitFailure};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{
     GripperReach, LiftRequest, LiftSettings, LiftedMotion, Phase, carry_height, grasp_pose, lift,
 };
-use crate::motion::solve_motion;
+use crate::motion::{IK_STARTS, IkStart, solve_motions};
 use crate::oracle;
 use crate::scenario::{PixelBox, Scenario};
 use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
 use crate::timing::TimingSettings;
 use crate::trajectory::{TimedMotion, TimingRequest, time_motion};
+use crate::transit::{TransitError, TransitSettings, joint_steps, plan_transit};
+use afford_kinematics::{Arm, ArmChoice};
 
 /// Where the pipeline stops. Later stages need the earlier ones.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -53,6 +55,8 @@ pub struct PlanOptions {
     pub lift: LiftSettings,
     pub ik: PathSettings,
     pub timing: TimingSettings,
+    /// The transit planner's budget ([`crate::transit`]).
+    pub transit: TransitSettings,
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
@@ -137,6 +141,7 @@ impl Default for PlanOptions {
             lift: LiftSettings::default(),
             ik: PathSettings::default(),
             timing: TimingSettings::default(),
+            transit: TransitSettings::default(),
             max_replans: 5,
             base_dir: PathBuf::from("."),
         }
@@ -275,6 +280,8 @@ pub struct StageTimings {
     pub lift: Duration,
     pub ik: Duration,
     pub collision: Duration,
+    /// Transit planning (its edge checks included).
+    pub transit: Duration,
     pub timing: Duration,
 }
 
@@ -321,8 +328,7 @@ impl Planner {
     /// the same errors a scenario file gets) or no sub-goal could be planned;
     /// otherwise unsolvable sub-goals are listed in [`Plan::unsolved`].
     pub fn plan(&self, scenario: &Scenario) -> Result<Plan, PlanError> {
-        let options = &self.options;
-        options.validate()?;
+        self.options.validate()?;
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
         scenario.validate()?;
@@ -330,7 +336,30 @@ impl Planner {
         let Interpretation {
             subgoals: goals,
             skipped,
-        } = timed(&mut timings.subgoals, || work(scenario, options.seed))?;
+        } = timed(&mut timings.subgoals, || work(scenario, self.options.seed))?;
+        let mut plan = self.plan_goals(scenario, &goals, timings)?;
+        plan.skipped = skipped;
+        Ok(plan)
+    }
+
+    /// Plans the given sub-goals of `scenario` in order, from the robot's
+    /// state at t = 0, as [`Planner::plan`] does after reading the
+    /// instruction (`timings` carries the time spent so far). `Err` as
+    /// [`Planner::plan`]; no sub-goals is `Unsolvable`.
+    pub fn plan_goals(
+        &self,
+        scenario: &Scenario,
+        goals: &[SubGoal],
+        mut timings: StageTimings,
+    ) -> Result<Plan, PlanError> {
+        let options = &self.options;
+        options.validate()?;
+        let Some(first_goal) = goals.first() else {
+            return Err(PlanError::Unsolvable {
+                reasons: vec!["no sub-goals to plan".to_string()],
+                unsolved: Vec::new(),
+            });
+        };
         let spec = &scenario.robot;
         let needs_robot =
             options.until >= Stage::Waypoints || spec.start.is_none() || spec.joints.is_some();
@@ -342,7 +371,7 @@ impl Planner {
             false => None,
         };
         let start = match &robot {
-            Some(r) => Some(self.start_state(scenario, r, &goals[0])?),
+            Some(r) => Some(self.start_state(scenario, r, first_goal)?),
             None => None,
         };
         let geometry = match (&robot, options.until >= Stage::Waypoints) {
@@ -379,18 +408,17 @@ impl Planner {
             joints,
             held: None,
         };
-        let mut plan = Plan {
+        let (subgoals, unsolved) = self.plan_chain(&mut world, goals, &mut timings);
+        let plan = Plan {
             scenario: scenario.name.clone().unwrap_or_default(),
             seed: options.seed,
             until: options.until,
             start_state,
-            skipped,
-            subgoals: Vec::new(),
-            unsolved: Vec::new(),
-            timings: StageTimings::default(),
+            skipped: Vec::new(),
+            subgoals,
+            unsolved,
+            timings,
         };
-        self.plan_goals(&mut world, &goals, &mut plan, &mut timings);
-        plan.timings = timings;
         if plan.subgoals.is_empty() {
             let reasons = plan
                 .unsolved
@@ -405,31 +433,91 @@ impl Planner {
         Ok(plan)
     }
 
-    /// Plans `goals` in order from `world`, each from where the one before
-    /// ended; unsolvable ones go to `plan.unsolved`.
-    fn plan_goals(
+    /// The sub-goals one after another, the world updated after each. An
+    /// arm stays where its sub-goal left it, except after the last sub-goal,
+    /// where it returns to park (when it has a park posture). When a
+    /// sub-goal's motion cannot be planned and the arm of the last planned
+    /// sub-goal stayed out of park, that sub-goal is planned again with the
+    /// arm returning to park, and the failed one is tried once more; if the
+    /// parked version does not plan, the first outcome stands.
+    fn plan_chain(
         &self,
         world: &mut World,
         goals: &[SubGoal],
-        plan: &mut Plan,
         timings: &mut StageTimings,
-    ) {
-        for (k, goal) in goals.iter().enumerate() {
+    ) -> (Vec<SubgoalPlan>, Vec<UnsolvedSubgoal>) {
+        let mut park = vec![false; goals.len()];
+        if let Some(last) = park.last_mut() {
+            *last = true;
+        }
+        let mut outcomes: Vec<Result<SubgoalPlan, Refusal>> = Vec::new();
+        let mut snapshots: Vec<Option<Snapshot>> = vec![None; goals.len()];
+        // After a rewind to sub-goal j: the outcomes and the world as they
+        // were, restored when j does not plan with its arm parking.
+        let mut fallback: Option<Rewound> = None;
+        while outcomes.len() < goals.len() {
+            let k = outcomes.len();
+            let goal = &goals[k];
             let request = request(&world.scene, goal, world.gripper_px);
-            match self.plan_subgoal(
-                world,
-                goal,
-                request,
-                subgoal_seed(self.options.seed, k),
-                timings,
-            ) {
+            snapshots[k] = Some(world.snapshot());
+            let seed = subgoal_seed(self.options.seed, k);
+            let refused = match self.plan_subgoal(world, goal, request, seed, park[k], timings) {
                 Ok(done) => {
                     world.advance(request, &done);
-                    plan.subgoals.push(done);
+                    outcomes.push(Ok(done));
+                    fallback = None;
+                    continue;
                 }
-                Err(refusal) => plan.unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
+                Err(refused) => refused,
+            };
+            if let Some((j, saved, state)) = fallback.take() {
+                park[j] = false;
+                outcomes = saved;
+                world.restore(state);
+                continue;
+            }
+            let rewind = match refused.motion {
+                true => self.rewind_to(world, &outcomes, &park),
+                false => None,
+            };
+            let Some(j) = rewind else {
+                outcomes.push(Err(*refused.reason));
+                continue;
+            };
+            let mut saved = outcomes.clone();
+            saved.push(Err(*refused.reason));
+            fallback = Some((j, saved, world.snapshot()));
+            park[j] = true;
+            outcomes.truncate(j);
+            if let Some(state) = snapshots[j].clone() {
+                world.restore(state);
             }
         }
+        let mut subgoals = Vec::new();
+        let mut unsolved = Vec::new();
+        for (goal, outcome) in goals.iter().zip(outcomes) {
+            match outcome {
+                Ok(done) => subgoals.push(done),
+                Err(refusal) => unsolved.push(UnsolvedSubgoal::new(goal, refusal)),
+            }
+        }
+        (subgoals, unsolved)
+    }
+
+    /// The last planned sub-goal, when its arm stayed out of park (it has a
+    /// park posture and is not at it): the one to plan again with the arm
+    /// parking at its end.
+    fn rewind_to(
+        &self,
+        world: &World,
+        outcomes: &[Result<SubgoalPlan, Refusal>],
+        park: &[bool],
+    ) -> Option<usize> {
+        let robot = world.robot.as_ref()?;
+        let j = outcomes.iter().rposition(|o| o.is_ok())?;
+        let arm = outcomes[j].as_ref().ok()?.arm.as_ref()?;
+        let arm = robot.arm(arm).ok()?;
+        (!park[j] && !arm.park.is_empty() && !start::is_parked(arm, &world.joints)).then_some(j)
     }
 
     /// Plans `goals` (every stage) from a mid-execution state: the robot
@@ -488,28 +576,27 @@ impl Planner {
             joints: start.joints,
             held,
         };
-        let mut plan = Plan {
-            scenario: scenario.name.clone().unwrap_or_default(),
-            seed: self.options.seed,
-            until: Stage::Trajectory,
-            start_state: Some(JointState {
-                joint_names: robot.joints().iter().map(|j| j.name.clone()).collect(),
-                positions: from.joints.clone(),
-            }),
-            skipped: Vec::new(),
-            subgoals: Vec::new(),
-            unsolved: Vec::new(),
-            timings: StageTimings::default(),
-        };
+        let start_state = Some(JointState {
+            joint_names: robot.joints().iter().map(|j| j.name.clone()).collect(),
+            positions: from.joints.clone(),
+        });
         world.robot = Some(robot);
         let planner = Planner::new(PlanOptions {
             until: Stage::Trajectory,
             ..self.options.clone()
         });
         let mut timings = StageTimings::default();
-        planner.plan_goals(&mut world, goals, &mut plan, &mut timings);
-        plan.timings = timings;
-        Ok(plan)
+        let (subgoals, unsolved) = planner.plan_chain(&mut world, goals, &mut timings);
+        Ok(Plan {
+            scenario: scenario.name.clone().unwrap_or_default(),
+            seed: self.options.seed,
+            until: Stage::Trajectory,
+            start_state,
+            skipped: Vec::new(),
+            subgoals,
+            unsolved,
+            timings,
+        })
     }
 
     /// The robot's state at t = 0 ([`crate::start`]); the first sub-goal
@@ -533,18 +620,27 @@ impl Planner {
     }
 
     /// One sub-goal through the stages: grid → CQL → lift → IK. `Err` is the
-    /// reason it cannot be planned.
+    /// reason it cannot be planned. `park`: the arm returns to its park
+    /// posture at the end (when it has one).
     fn plan_subgoal(
         &self,
         world: &World,
         goal: &SubGoal,
         request: GridRequest,
         seed: u64,
+        park: bool,
         timings: &mut StageTimings,
-    ) -> Result<SubgoalPlan, Refusal> {
+    ) -> Result<SubgoalPlan, Refused> {
         let mut retry = Retry::default();
         loop {
-            let hit = match self.attempt(world, goal, request, &retry, seed, timings)? {
+            let pass = Pass {
+                world,
+                goal,
+                request,
+                seed,
+                park,
+            };
+            let hit = match self.attempt(&pass, &retry, timings)? {
                 Attempt::Planned(done) => return Ok(*done),
                 Attempt::Collides(hit) => hit,
             };
@@ -561,7 +657,7 @@ impl Planner {
                 {
                     retry.turn += 1
                 }
-                _ => return Err(hit.refusal),
+                _ => return Err(Refused::motion(hit.refusal)),
             }
         }
     }
@@ -570,13 +666,11 @@ impl Planner {
     /// grid → CQL → lift → IK → collision check.
     fn attempt(
         &self,
-        world: &World,
-        goal: &SubGoal,
-        request: GridRequest,
+        pass: &Pass,
         retry: &Retry,
-        seed: u64,
         timings: &mut StageTimings,
-    ) -> Result<Attempt, Refusal> {
+    ) -> Result<Attempt, Refused> {
+        let (world, goal, request, seed) = (pass.world, pass.goal, pass.request, pass.seed);
         let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
         if let Some(gripper) = &world.gripper {
             grasp_pose(
@@ -584,7 +678,8 @@ impl Planner {
                 &scene.objects[request.object],
                 gripper,
                 &options.lift,
-            )?;
+            )
+            .map_err(Refused::early)?;
         }
         let task = timed(&mut timings.grid, || {
             let mut grid = StateGrid::build_placing(scene, request, opening(world));
@@ -595,28 +690,28 @@ impl Planner {
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
         let Some(optimal) = oracle::optimal_length(&task) else {
             return Err(match blocked.is_empty() {
-                true => why_unsolvable(scene, request, opening(world)),
-                false => Refusal::NoRoute {
+                true => Refused::early(why_unsolvable(scene, request, opening(world))),
+                false => Refused::motion(Refusal::NoRoute {
                     object: scene.objects[request.object].name.clone(),
                     goal: scene.goals[request.goal].name.clone(),
                     blocked_cells: blocked.len(),
-                },
+                }),
             });
         };
         if !learned.solved {
-            return Err(Refusal::LearnerBudget {
+            return Err(Refused::early(Refusal::LearnerBudget {
                 training_steps: learned.training_steps,
-            });
+            }));
         }
         let mut done = subgoal_plan(goal, &task, &learned, optimal);
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
         let Some(gripper) = &world.gripper else {
-            return Err(Refusal::internal(
+            return Err(Refused::early(Refusal::internal(
                 "lift",
                 "the robot is needed to lift the plan",
-            ));
+            )));
         };
         let lift_request = LiftRequest {
             object: request.object,
@@ -629,7 +724,8 @@ impl Planner {
         };
         let mut motion = timed(&mut timings.lift, || {
             lift(scene, &task, &lift_request, gripper, &options.lift)
-        })?;
+        })
+        .map_err(Refused::early)?;
         let turn = f64::from(GRASP_TURNS[retry.turn]) * std::f64::consts::FRAC_PI_2;
         if turn != 0.0 {
             motion.waypoints.iter_mut().for_each(|w| w.yaw += turn);
@@ -646,38 +742,204 @@ impl Planner {
             done.waypoints = Some(motion);
             return Ok(Attempt::Planned(Box::new(done)));
         };
-        let choice = timed(&mut timings.ik, || {
-            solve_motion(robot, &motion, &world.joints, &options.ik, seed)
+        // The arms that reach, cheapest first: the first whose whole motion
+        // is free moves. When none is, the arms try again with their IK
+        // started from their home posture, then from random postures
+        // (other branches: an IK posture may fold into the body). A collision of
+        // the cheapest goes back to the grid when no arm is free; else the
+        // transits not found are the refusal.
+        let mut first_hit: Option<Replan> = None;
+        let mut no_transit = Vec::new();
+        let mut free = None;
+        for start in IK_STARTS {
+            let choices = timed(&mut timings.ik, || {
+                solve_motions(robot, &motion, &world.joints, &options.ik, seed, start)
+            });
+            let choices = match (choices, start) {
+                (Ok(c), _) => c,
+                (Err(e), IkStart::Current) => return Err(Refused::motion(e)),
+                (Err(_), _) => continue,
+            };
+            for choice in choices {
+                let arm = &robot.arms()[choice.arm_index];
+                let outcome =
+                    self.arm_motion(pass, robot, geometry, arm, &choice, &task, &motion, timings)?;
+                match outcome {
+                    ArmMotionOutcome::Free(path) => {
+                        free = Some((choice, arm, path));
+                        break;
+                    }
+                    ArmMotionOutcome::Collides(hit) => {
+                        first_hit.get_or_insert(*hit);
+                    }
+                    ArmMotionOutcome::NoTransit(failure) => no_transit.push(failure),
+                }
+            }
+            if free.is_some() {
+                break;
+            }
+        }
+        let Some((choice, arm, planned)) = free else {
+            return match first_hit {
+                Some(hit) => Ok(Attempt::Collides(Box::new(hit))),
+                None => Err(Refused::motion(Refusal::NoTransit { arms: no_transit })),
+            };
+        };
+        let PlannedPath {
+            joint_path,
+            grasp_at,
+            release_at,
+            motion,
+        } = planned;
+        if options.until >= Stage::Trajectory {
+            let request = TimingRequest {
+                scenario: scene,
+                robot,
+                arm,
+                path: &joint_path,
+                switches: (grasp_at, release_at),
+                separation: &scene.safety.separation,
+                settings: &options.timing,
+            };
+            let mut timed_motion =
+                timed(&mut timings.timing, || time_motion(&request)).map_err(Refused::motion)?;
+            if held.is_some() {
+                drop_leading_close(&mut timed_motion);
+            }
+            let (grasp_at, release_at) = timed_motion.gripper_samples();
+            let positions: Vec<Vec<f64>> = timed_motion
+                .points
+                .iter()
+                .map(|p| p.positions.clone())
+                .collect();
+            let verify = ArmMotion {
+                scenario: scene,
+                target: pass.request.object,
+                goal: pass.request.goal,
+                arm: &arm.name,
+                rest: &world.joints,
+                path: &positions,
+                grasp_at,
+                release_at,
+                held: held.map(|h| (h.grasped_box, h.grasp.as_slice())),
+            };
+            if let Some(hit) = timed(&mut timings.collision, || {
+                check_motion(robot, geometry, &verify)
+            })
+            .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?
+            {
+                let time_s = timed_motion.points[hit.index].time_from_start;
+                return Err(Refused::motion(collides(
+                    &arm.name,
+                    &hit.collision,
+                    HitPlace::Trajectory { time_s },
+                )));
+            }
+            done.trajectory = Some(timed_motion);
+        }
+        done.arm = Some(choice.arm.clone());
+        done.joint_names = Some(arm.joint_names.clone());
+        done.joint_path = Some(joint_path);
+        done.waypoints = Some(motion);
+        Ok(Attempt::Planned(Box::new(done)))
+    }
+
+    /// One arm's whole joint path for the sub-goal: the transit from where
+    /// the arm is to its path, its IK path, and (when the pass parks) the
+    /// transit back to park, each transit straight when free and else found
+    /// by the transit planner ([`crate::transit`]); then the continuous
+    /// check of the whole path. Leading travel waypoints whose configuration
+    /// is not free (the start cell over an obstacle's perimeter, where a
+    /// parked arm's gripper never is) are left out: the transit joins the
+    /// tool path at the first free one.
+    #[allow(clippy::too_many_arguments)]
+    fn arm_motion(
+        &self,
+        pass: &Pass,
+        robot: &RobotModel,
+        geometry: &RobotGeometry,
+        arm: &Arm,
+        choice: &ArmChoice,
+        task: &GridTask,
+        motion: &LiftedMotion,
+        timings: &mut StageTimings,
+    ) -> Result<ArmMotionOutcome, Refused> {
+        let (world, request) = (pass.world, pass.request);
+        let scene = &world.scene;
+        let held = world.held.as_ref().filter(|h| h.object == pass.goal.object);
+        let moves = |leg| {
+            FreeMoves::new(
+                robot,
+                geometry,
+                scene,
+                request.object,
+                request.goal,
+                &arm.name,
+                &world.joints,
+                leg,
+            )
+            .map_err(|e| Refused::motion(Refusal::internal("collision", e)))
+        };
+        // An object already in the hand is no obstacle to it.
+        let before = moves(match held {
+            Some(_) => Leg::AfterRelease,
+            None => Leg::BeforeGrasp,
         })?;
-        let arm = &robot.arms()[choice.arm_index];
+        let skip = timed(&mut timings.transit, || {
+            leading_blocked(&before, motion, &choice.path.waypoints)
+        })
+        .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?;
+        let motion = LiftedMotion {
+            waypoints: motion.waypoints[skip..].to_vec(),
+            ..motion.clone()
+        };
         let start = arm.extract(&world.joints);
-        let mut choice = choice;
+        let mut waypoints = choice.path.waypoints[skip..].to_vec();
         // The route starts where the tool is: a first waypoint whose IK lands
         // on the current configuration is that configuration exactly.
-        if let Some(q) = choice.path.waypoints.first_mut()
+        if let Some(q) = waypoints.first_mut()
             && q.iter()
                 .zip(&start)
                 .all(|(a, b)| (a - b).abs() <= SAME_CONFIGURATION)
         {
             q.clone_from(&start);
         }
-        let first = choice
-            .path
-            .waypoints
-            .first()
-            .cloned()
-            .unwrap_or_else(|| start.clone());
-        let lead = match start::is_parked(arm, &world.joints) {
-            true => leave_park(arm, &start, &first),
-            false => approach(&start, &first),
-        };
+        let first = waypoints.first().cloned().unwrap_or_else(|| start.clone());
+        let stream = 2 * choice.arm_index;
+        let mut lead =
+            match self.transit(arm, &before, &start, &first, pass.seed, stream, timings)? {
+                Ok(path) => path,
+                Err(e) => {
+                    return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
+                        arm: arm.name.clone(),
+                        place: HitPlace::ToFirstWaypoint,
+                        reason: e.to_string(),
+                    }));
+                }
+            };
+        // The transit ends on the first waypoint, which the IK path starts with.
+        lead.pop();
         // joint_path[lead.len() + 1 + k] is tool waypoint k.
         let offset = lead.len();
-        let mut joint_path: Vec<Vec<f64>> = std::iter::once(start.clone())
+        let mut joint_path: Vec<Vec<f64>> = std::iter::once(start)
             .chain(lead)
-            .chain(choice.path.waypoints)
+            .chain(waypoints)
             .collect();
-        joint_path.extend(return_to_park(arm, &world.joints, &joint_path));
+        if pass.park && !arm.park.is_empty() {
+            let after = moves(Leg::AfterRelease)?;
+            let last = joint_path.last().cloned().unwrap_or_default();
+            let parked = arm.extract(&start::parked_home(robot));
+            match self.transit(arm, &after, &last, &parked, pass.seed, stream + 1, timings)? {
+                Ok(path) => joint_path.extend(path),
+                Err(e) => {
+                    return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
+                        arm: arm.name.clone(),
+                        place: HitPlace::ReturningToPark,
+                        reason: e.to_string(),
+                    }));
+                }
+            }
+        }
         let (grasp_at, release_at) = motion.gripper_switches();
         // An object already held is held from the start.
         let grasp_at = held.map_or(grasp_at + offset, |_| 0);
@@ -696,59 +958,136 @@ impl Planner {
         if let Some(hit) = timed(&mut timings.collision, || {
             check_motion(robot, geometry, &check)
         })
-        .map_err(|e| Refusal::internal("collision", e))?
+        .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?
         {
-            let mut replan = Replan::of(hit, offset, scene, &task, &motion, &arm.name);
-            replan.lowered =
-                motion.carry_height < carry_height(scene, request.object, &options.lift) - 1e-9;
-            return Ok(Attempt::Collides(Box::new(replan)));
+            let mut replan = Replan::of(hit, offset, scene, task, &motion, &arm.name);
+            replan.lowered = motion.carry_height
+                < carry_height(scene, request.object, &self.options.lift) - 1e-9;
+            return Ok(ArmMotionOutcome::Collides(Box::new(replan)));
         }
-        if options.until >= Stage::Trajectory {
-            let request = TimingRequest {
-                scenario: scene,
-                robot,
-                arm,
-                path: &joint_path,
-                switches: (grasp_at, release_at),
-                separation: &scene.safety.separation,
-                settings: &options.timing,
-            };
-            let mut timed_motion = timed(&mut timings.timing, || time_motion(&request))?;
-            if held.is_some() {
-                drop_leading_close(&mut timed_motion);
-            }
-            let (grasp_at, release_at) = timed_motion.gripper_samples();
-            let positions: Vec<Vec<f64>> = timed_motion
-                .points
-                .iter()
-                .map(|p| p.positions.clone())
-                .collect();
-            let verify = ArmMotion {
-                path: &positions,
-                grasp_at,
-                release_at,
-                ..check
-            };
-            if let Some(hit) = timed(&mut timings.collision, || {
-                check_motion(robot, geometry, &verify)
-            })
-            .map_err(|e| Refusal::internal("collision", e))?
-            {
-                let time_s = timed_motion.points[hit.index].time_from_start;
-                return Err(collides(
-                    &arm.name,
-                    &hit.collision,
-                    HitPlace::Trajectory { time_s },
-                ));
-            }
-            done.trajectory = Some(timed_motion);
-        }
-        done.arm = Some(choice.arm.clone());
-        done.joint_names = Some(arm.joint_names.clone());
-        done.joint_path = Some(joint_path);
-        done.waypoints = Some(motion);
-        Ok(Attempt::Planned(Box::new(done)))
+        Ok(ArmMotionOutcome::Free(PlannedPath {
+            joint_path,
+            grasp_at,
+            release_at,
+            motion,
+        }))
     }
+
+    /// A transit of `arm` from `from` to `to` (excluded, included) under
+    /// `moves`' edge test, with the random stream `stream` of the sub-goal's
+    /// seed. An end that is not free gives the straight move, for the whole
+    /// path's check to name the hit; the inner `Err` is why no transit
+    /// exists within the budget, the outer one a check that cannot run.
+    #[allow(clippy::too_many_arguments)]
+    fn transit(
+        &self,
+        arm: &Arm,
+        moves: &FreeMoves,
+        from: &[f64],
+        to: &[f64],
+        seed: u64,
+        stream: usize,
+        timings: &mut StageTimings,
+    ) -> Result<Result<Vec<Vec<f64>>, TransitError>, Refused> {
+        let settings = &self.options.transit;
+        let found = timed(&mut timings.transit, || {
+            plan_transit(
+                arm,
+                from,
+                to,
+                &mut |a, b| moves.edge_free(a, b),
+                settings,
+                subgoal_seed(seed ^ TRANSIT_STREAM, stream),
+            )
+        });
+        match found {
+            Ok(t) => Ok(Ok(t.path)),
+            Err(TransitError::StartCollides | TransitError::EndCollides) => {
+                Ok(Ok(joint_steps(from, to, settings.max_step)))
+            }
+            Err(TransitError::Check(e)) => Err(Refused::motion(Refusal::internal("collision", e))),
+            Err(e) => Ok(Err(e)),
+        }
+    }
+}
+
+/// How many leading travel waypoints have a configuration that is not free
+/// (at most all but the last travel waypoint).
+fn leading_blocked(
+    moves: &FreeMoves,
+    motion: &LiftedMotion,
+    path: &[Vec<f64>],
+) -> Result<usize, String> {
+    let travel = motion
+        .waypoints
+        .iter()
+        .take_while(|w| w.phase == Phase::Travel)
+        .count()
+        .min(path.len());
+    for (k, q) in path.iter().enumerate().take(travel.saturating_sub(1)) {
+        if moves.edge_free(q, q)? {
+            return Ok(k);
+        }
+    }
+    Ok(travel.saturating_sub(1))
+}
+
+/// Offset of the transit planner's random streams from the learner's
+/// (sub-goal seeds are SplitMix64 steps; this keeps the two apart).
+const TRANSIT_STREAM: u64 = 0x7472_616e_7369_7473;
+
+/// One sub-goal's inputs to a pass through the stages.
+struct Pass<'a> {
+    world: &'a World,
+    goal: &'a SubGoal,
+    request: GridRequest,
+    seed: u64,
+    /// The arm returns to park at the end.
+    park: bool,
+}
+
+/// Why a sub-goal was not planned.
+#[derive(Debug)]
+struct Refused {
+    /// Boxed: a refusal is large and `Refused` is every stage's `Err`.
+    reason: Box<Refusal>,
+    /// The arm's motion failed (joints or trajectory stage): another robot
+    /// state (the previous arm parked) may plan it.
+    motion: bool,
+}
+
+impl Refused {
+    /// Refused before any arm moves (scene, grid, learner, lifting).
+    fn early(reason: Refusal) -> Self {
+        Self {
+            reason: Box::new(reason),
+            motion: false,
+        }
+    }
+
+    fn motion(reason: Refusal) -> Self {
+        Self {
+            reason: Box::new(reason),
+            motion: true,
+        }
+    }
+}
+
+/// A collision-checked joint path, where the gripper closes and opens, and
+/// the tool waypoints it follows.
+struct PlannedPath {
+    joint_path: Vec<Vec<f64>>,
+    grasp_at: usize,
+    release_at: usize,
+    motion: LiftedMotion,
+}
+
+/// How one arm's motion for a sub-goal turned out.
+enum ArmMotionOutcome {
+    Free(PlannedPath),
+    Collides(Box<Replan>),
+    /// No collision-free transit within the planner's budget.
+    NoTransit(TransitFailure),
 }
 
 /// What a sub-goal's next pass does differently after a collision.
@@ -849,7 +1188,38 @@ impl Replan {
     }
 }
 
+/// The sub-goal a chain went back to, and the outcomes and world before.
+type Rewound = (usize, Vec<Result<SubgoalPlan, Refusal>>, Snapshot);
+
+/// The part of the [`World`] a sub-goal changes, to plan it again.
+#[derive(Clone)]
+struct Snapshot {
+    scene: Scenario,
+    gripper_px: [f64; 2],
+    gripper_height: Option<f64>,
+    joints: Vec<f64>,
+    held: Option<HeldObject>,
+}
+
 impl World {
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            scene: self.scene.clone(),
+            gripper_px: self.gripper_px,
+            gripper_height: self.gripper_height,
+            joints: self.joints.clone(),
+            held: self.held.clone(),
+        }
+    }
+
+    fn restore(&mut self, state: Snapshot) {
+        self.scene = state.scene;
+        self.gripper_px = state.gripper_px;
+        self.gripper_height = state.gripper_height;
+        self.joints = state.joints;
+        self.held = state.held;
+    }
+
     /// The scene after a planned sub-goal: the object rests on its spot in
     /// the goal box, the gripper is over it, the arm where its path ended
     /// (other arms stay where they are: the collision check sees them there).
@@ -880,66 +1250,6 @@ impl World {
 /// Largest joint difference (rad or m) at which a solved configuration is
 /// taken as the current one (IK converges to about 1e-9).
 const SAME_CONFIGURATION: f64 = 1e-6;
-
-/// The arm's way back to its park posture after its last waypoint, through
-/// its home posture, in joint steps of at most 0.05 rad; empty for an arm
-/// without a park posture.
-fn return_to_park(arm: &afford_kinematics::Arm, rest: &[f64], path: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let Some(last) = path.last().filter(|_| !arm.park.is_empty()) else {
-        return Vec::new();
-    };
-    let mut full = rest.to_vec();
-    for &(i, v) in &arm.park {
-        full[i] = v;
-    }
-    let park = arm.extract(&full);
-    let mut out = joint_steps(last, &arm.home);
-    out.extend(joint_steps(&arm.home, &park));
-    out
-}
-
-/// The way from a parked arm to its path's first configuration, through its
-/// home posture (straight in joint space from park, the arm could sweep the
-/// robot's body); empty for an arm without a park posture. An arm that is
-/// not parked takes the straight [`approach`] instead.
-fn leave_park(arm: &afford_kinematics::Arm, start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
-    if arm.park.is_empty() {
-        return Vec::new();
-    }
-    let mut out = joint_steps(start, &arm.home);
-    out.extend(joint_steps(&arm.home, first));
-    out.pop();
-    out
-}
-
-/// The way of an arm that is not parked from where it is to its path's
-/// first configuration: straight in joint space, in steps of at most
-/// 0.05 rad (so the timing stage's interpolant sees evenly spaced points,
-/// not one long segment beside 1 cm ones), the first configuration excluded.
-fn approach(start: &[f64], first: &[f64]) -> Vec<Vec<f64>> {
-    let mut out = joint_steps(start, first);
-    out.pop();
-    out
-}
-
-/// Configurations from `a` (excluded) to `b` (included), straight in joint
-/// space, no joint moving more than 0.05 rad per step.
-fn joint_steps(a: &[f64], b: &[f64]) -> Vec<Vec<f64>> {
-    let largest = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
-    let steps = (largest / 0.05).ceil() as usize;
-    (1..=steps)
-        .map(|k| {
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| x + k as f64 / steps as f64 * (y - x))
-                .collect()
-        })
-        .collect()
-}
 
 /// The lifted motion of an object already in the gripper: everything up
 /// to the lift (travel, approach, grasp, lift) is dropped, so the motion

@@ -6,7 +6,7 @@ use afford_check::PlanFile;
 use afford_kinematics::RobotModel;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use afford_planner::bench::safety::{Finding, Robots, SafetyReport, run_scene};
-use afford_planner::bench::scenes;
+use afford_planner::bench::{scenes, transits};
 use afford_planner::{Plan, Scenario};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -18,7 +18,7 @@ use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
     BenchCqlArgs, BenchIkArgs, BenchMonitorArgs, BenchPipelineArgs, BenchRoutesArgs,
-    BenchSafetyArgs, BenchSeedArgs, ExitKind, Failure,
+    BenchSafetyArgs, BenchSeedArgs, BenchTransitsArgs, ExitKind, Failure,
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
@@ -154,6 +154,31 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
     } else {
         print(&report.table())
     }
+}
+
+pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
+    if args.scenes == 0 {
+        return Err(Failure::new(
+            ExitKind::BadInput,
+            "--scenes must be at least 1",
+        ));
+    }
+    let bar = progress_bar(args.scenes as u64, "scenes");
+    // Scenes in parallel, collected in order: the report does not depend
+    // on the thread count.
+    let outcomes: Vec<_> = (0..args.scenes)
+        .into_par_iter()
+        .map(|k| {
+            let outcome = transits::run_scene(args.seed, transits::scene_index(k));
+            bar.inc(1);
+            outcome
+        })
+        .collect();
+    bar.finish_and_clear();
+    print_report(
+        &transits::TransitBenchReport::of(args.seed, &outcomes),
+        args.json,
+    )
 }
 
 pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {

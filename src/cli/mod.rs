@@ -215,10 +215,25 @@ pub enum BenchCommand {
     Pipeline(BenchPipelineArgs),
     /// The safety campaign: random scenes for both robots, planned and every trajectory re-checked.
     Safety(BenchSafetyArgs),
+    /// Care-O-bot campaign scenes: each sub-goal planned alone, then the instruction chained.
+    Transits(BenchTransitsArgs),
     /// Planned tool routes on the safety campaign's scenes against the shortest any-angle paths around the perimeters.
     Routes(BenchRoutesArgs),
     /// The valid-policy detector on seeded planned scenes: relevant and irrelevant perturbations (by construction), detections, false triggers, decision and replan times.
     Monitor(BenchMonitorArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchTransitsArgs {
+    /// Number of Care-O-bot scenes (the odd scenes of the safety campaign's series).
+    #[arg(long, default_value_t = 200)]
+    pub scenes: usize,
+    /// Seed of the scene series (the safety campaign's).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -353,6 +368,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Command::Bench(BenchCommand::Timing(args)) => bench::timing(&args),
         Command::Bench(BenchCommand::Pipeline(args)) => bench::pipeline(&args),
         Command::Bench(BenchCommand::Safety(args)) => bench::safety(&args),
+        Command::Bench(BenchCommand::Transits(args)) => bench::transits(&args),
         Command::ExportMdp(args) => export::run(&args),
         Command::Bench(BenchCommand::Routes(args)) => bench::routes(&args),
         Command::Bench(BenchCommand::Monitor(args)) => bench::monitor(&args),

@@ -50,6 +50,15 @@ fn table(name: &str) -> Option<Outcome> {
             ("blue-square-2", L),
             ("blue-square-3", L),
         ]),
+        // Issue 9: planned transits and IK branches plan all six (was five).
+        "cob4-extra-pieces.yaml" => plans(&[
+            ("red-square-1", R),
+            ("red-square-2", R),
+            ("red-square-3", R),
+            ("blue-square-1", L),
+            ("blue-square-2", L),
+            ("blue-square-3", L),
+        ]),
         "hand-on-route.yaml" => plans(&[("blue-square-1", L)]),
         "sensitive-yellow.yaml" => plans(&[("blue-square-1", R)]),
         // "two of them" is a seeded pick: any two green squares.

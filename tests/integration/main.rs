@@ -17,4 +17,5 @@ mod plan_output;
 mod refusals;
 mod safety;
 mod scenario_errors;
+mod transits;
 mod util;

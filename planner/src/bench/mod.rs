@@ -2,7 +2,8 @@
 //! experiment that reproduces the paper's Table 1 (CQL against QL, measured
 //! against the BFS oracle), the whole pipeline stage by stage, and the
 //! safety campaign (random scenes for both robots, planned and re-checked),
-//! and the planned routes against the shortest any-angle paths.
+//! the transit campaign (Care-O-bot sub-goals alone against chained) and
+//! the planned routes against the shortest any-angle paths.
 
 pub mod cql;
 pub mod generator;
@@ -12,6 +13,7 @@ pub mod refusal;
 pub mod routes;
 pub mod safety;
 pub mod scenes;
+pub mod transits;
 pub mod visibility;
 
 /// Median of a sample (mean of the two middle values); 0 when empty.

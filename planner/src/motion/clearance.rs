@@ -90,18 +90,11 @@ pub fn check_motion(
         arm: Some(m.arm.to_string()),
         ..PathOptions::default()
     };
-    let fingers = grasp_region(robot, geometry, m.arm)?;
     let parts = [
         (
             0,
             m.grasp_at,
-            PathOptions {
-                exempt: fingers
-                    .into_iter()
-                    .map(|f| (f, object.name.clone()))
-                    .collect(),
-                ..options.clone()
-            },
+            leg_options(robot, geometry, m.arm, &object.name, Leg::BeforeGrasp)?,
         ),
         (
             m.grasp_at,
@@ -116,16 +109,13 @@ pub fn check_motion(
             m.release_at,
             PathOptions {
                 attached: Some(held),
-                ..options.clone()
+                ..options
             },
         ),
         (
             m.release_at,
             m.path.len() - 1,
-            PathOptions {
-                ignore: vec![object.name.clone()],
-                ..options
-            },
+            leg_options(robot, geometry, m.arm, &object.name, Leg::AfterRelease)?,
         ),
     ];
     for (from, to, opts) in parts {
@@ -140,6 +130,97 @@ pub fn check_motion(
         }
     }
     Ok(None)
+}
+
+/// The parts of a sub-goal where the hand holds nothing: the arm's free moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Leg {
+    /// Up to the grasp: the target is an obstacle with its margin for every
+    /// body but the fingers' grasp region.
+    BeforeGrasp,
+    /// After the release: the target rests under the open gripper and is
+    /// left out.
+    AfterRelease,
+}
+
+/// The check options of a free leg of `arm`'s motion whose target is `object`.
+fn leg_options(
+    robot: &RobotModel,
+    geometry: &RobotGeometry,
+    arm: &str,
+    object: &str,
+    leg: Leg,
+) -> Result<PathOptions, String> {
+    let options = PathOptions {
+        arm: Some(arm.to_string()),
+        ..PathOptions::default()
+    };
+    Ok(match leg {
+        Leg::BeforeGrasp => PathOptions {
+            exempt: grasp_region(robot, geometry, arm)?
+                .into_iter()
+                .map(|f| (f, object.to_string()))
+                .collect(),
+            ..options
+        },
+        Leg::AfterRelease => PathOptions {
+            ignore: vec![object.to_string()],
+            ..options
+        },
+    })
+}
+
+/// The edge test of an arm's free moves in one sub-goal (the transit
+/// planner's validity test): the scene and options [`check_motion`] uses on
+/// that leg, built once.
+pub struct FreeMoves<'a> {
+    geometry: &'a RobotGeometry,
+    scene: Scene,
+    arm: String,
+    rest: Vec<f64>,
+    options: PathOptions,
+}
+
+impl<'a> FreeMoves<'a> {
+    /// `rest`: the whole robot's configuration (the moving arm's joints are
+    /// replaced by the edge's). `Err` when the scene or robot is rejected.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        robot: &RobotModel,
+        geometry: &'a RobotGeometry,
+        scenario: &Scenario,
+        target: usize,
+        goal: usize,
+        arm: &str,
+        rest: &[f64],
+        leg: Leg,
+    ) -> Result<Self, String> {
+        let spec = scene_spec(scenario, target, goal);
+        let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
+        let object = &scenario.objects[target].name;
+        Ok(Self {
+            geometry,
+            scene,
+            arm: arm.to_string(),
+            rest: rest.to_vec(),
+            options: leg_options(robot, geometry, arm, object, leg)?,
+        })
+    }
+
+    /// Is the straight joint-space move of the arm from `a` to `b` free,
+    /// every margin kept at every instant?
+    pub fn edge_free(&self, a: &[f64], b: &[f64]) -> Result<bool, String> {
+        self.geometry
+            .check_arm_path(
+                &self.scene,
+                &self.arm,
+                &self.rest,
+                &[a.to_vec(), b.to_vec()],
+                &self.options,
+            )
+            .map(|v| v.is_free())
+            .map_err(|e| e.to_string())
+    }
 }
 
 /// The colliders of `arm`'s gripper that may touch the target before they

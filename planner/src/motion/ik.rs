@@ -1,10 +1,16 @@
 //! From tool waypoints to a joint path: every waypoint becomes a top-down
-//! IK target (tool axis down, yaw from the lifting stage), and the robot's
-//! arm that reaches all of them at the lowest joint-space cost is chosen
-//! (the other arms park). The path starts from the robot's current
-//! configuration, so the move to the first waypoint is part of it.
+//! IK target (tool axis down, yaw from the lifting stage), and every arm of
+//! the robot that reaches all of them is a candidate, cheapest first by
+//! kinematics' arm-choice cost (joint-space distance from where the arm is
+//! to the first waypoint + path length + distance from the joint limits,
+//! [`afford_kinematics::path_cost`]). The pipeline takes the first candidate
+//! whose whole motion (transits included) is collision-free, so a robot with
+//! two arms chooses per sub-goal by reach, then cost, then clearance.
 
-use afford_kinematics::{ArmChoice, IkTarget, PathSettings, RobotModel, Vec3, choose_arm};
+use afford_kinematics::{
+    ArmChoice, IkTarget, NoArmReaches, PathSettings, RobotModel, Vec3, path_cost,
+    random_configuration,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -23,31 +29,99 @@ pub fn ik_targets(motion: &LiftedMotion) -> Vec<IkTarget> {
         .collect()
 }
 
-/// Chooses the arm and solves the joint path for `motion` from the whole-robot
-/// configuration `current`. `Err` names each arm's first unreachable
-/// waypoint ([`Refusal::Unreachable`], [`Refusal::JointLimit`]).
-pub fn solve_motion(
+/// Where the path IK of [`solve_motions`] starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IkStart {
+    /// Where the arm is.
+    Current,
+    /// The arm's home posture (the description's comfortable posture).
+    Home,
+    /// A random configuration within the limits, the `k`-th stream.
+    Random(u64),
+}
+
+/// The IK starts the pipeline tries in turn while no arm's motion is free.
+pub const IK_STARTS: [IkStart; 4] = [
+    IkStart::Current,
+    IkStart::Home,
+    IkStart::Random(0),
+    IkStart::Random(1),
+];
+
+/// Every arm that reaches all of `motion`'s waypoints from the whole-robot
+/// configuration `current`, with its joint path, cheapest first (ties keep
+/// the robot's arm order). The arms are solved in the robot's order from one
+/// random stream seeded with `seed` (and the start's index). Each arm's IK
+/// starts as `start` says (another branch when the first one collides); the
+/// cost is from where the arm is either way. `Err` names each arm's first
+/// unreachable waypoint ([`Refusal::Unreachable`], [`Refusal::JointLimit`]),
+/// or a bad configuration or setting ([`Refusal::Internal`]).
+pub fn solve_motions(
     robot: &RobotModel,
     motion: &LiftedMotion,
     current: &[f64],
     settings: &PathSettings,
     seed: u64,
-) -> Result<ArmChoice, Refusal> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let targets = ik_targets(motion);
-    match choose_arm(robot, &targets, current, settings, &mut rng) {
-        Err(e) => Err(Refusal::internal("IK", e)),
-        Ok(Ok(choice)) => Ok(choice),
-        Ok(Err(none)) => Err(Refusal::unreachable(
-            none.failures
-                .into_iter()
-                .map(|(arm, f)| ArmFailure {
-                    arm,
-                    waypoint: f.index,
-                    phase: motion.waypoints.get(f.index).map(|w| w.phase),
-                    cause: f.reason,
-                })
-                .collect(),
-        )),
+    start: IkStart,
+) -> Result<Vec<ArmChoice>, Refusal> {
+    if current.len() != robot.dof() {
+        return Err(Refusal::internal(
+            "IK",
+            format!(
+                "the robot configuration has {} values, {} has {} joints",
+                current.len(),
+                robot.name(),
+                robot.dof()
+            ),
+        ));
     }
+    settings
+        .validate()
+        .map_err(|e| Refusal::internal("IK", e))?;
+    let stream = match start {
+        IkStart::Random(k) => k.wrapping_add(1),
+        _ => 0,
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    let targets = ik_targets(motion);
+    let mut choices = Vec::new();
+    let mut failures = Vec::new();
+    for (arm_index, arm) in robot.arms().iter().enumerate() {
+        let now = arm.extract(current);
+        let ik_seed = match start {
+            IkStart::Current => now.clone(),
+            IkStart::Home => arm.home.clone(),
+            IkStart::Random(_) => random_configuration(arm, &mut rng),
+        };
+        match arm.solve_path(&targets, Some(&ik_seed), settings, &mut rng) {
+            Ok(path) => choices.push(ArmChoice {
+                arm: arm.name.clone(),
+                arm_index,
+                cost: path_cost(arm, &now, &path),
+                robot_path: Vec::new(),
+                path,
+            }),
+            Err(f) => failures.push((arm.name.clone(), f)),
+        }
+    }
+    if choices.is_empty() {
+        return Err(unreachable(motion, NoArmReaches { failures }));
+    }
+    choices.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    Ok(choices)
+}
+
+/// Each arm's first unreachable waypoint, with its phase.
+fn unreachable(motion: &LiftedMotion, none: NoArmReaches) -> Refusal {
+    Refusal::unreachable(
+        none.failures
+            .into_iter()
+            .map(|(arm, f)| ArmFailure {
+                arm,
+                waypoint: f.index,
+                phase: motion.waypoints.get(f.index).map(|w| w.phase),
+                cause: f.reason,
+            })
+            .collect(),
+    )
 }

@@ -1,0 +1,172 @@
+//! `afford bench transits`: does chaining cost sub-goals? On the safety
+//! campaign's generated Care-O-bot scenes ([`super::scenes`], the odd
+//! indices of a seed's series) each sub-goal of the instruction is planned
+//! on its own (the scene as generated, the robot at its start state, that
+//! one sub-goal), then the whole instruction chained. Counted: the scenes
+//! where every sub-goal plans on its own, those of them where the chain
+//! plans every sub-goal too, their sub-goals planned chained, and the
+//! chained refusals by kind; transit refusals (no collision-free transit
+//! within the transit planner's budget, [`crate::transit`]) over every
+//! scene.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::refusal::error_refusals;
+use super::scenes;
+use crate::instruction::work;
+use crate::plan::{PlanOptions, Planner, StageTimings};
+
+/// The robot whose scenes are measured.
+pub const ROBOT: &str = "care_o_bot4";
+
+/// The kind of a transit refusal ([`crate::error::Refusal::NoTransit`]).
+pub const TRANSIT_REFUSAL: &str = "no_transit";
+
+/// One scene's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneTransits {
+    /// Index in the campaign series.
+    pub index: usize,
+    pub subgoals: usize,
+    /// Sub-goals that plan on their own.
+    pub alone: usize,
+    /// Sub-goals the chained instruction plans.
+    pub chained: usize,
+    /// The chained plan's refusals, by kind.
+    pub refusals: Vec<&'static str>,
+    /// Chained refusals that are transit refusals.
+    pub transit_refusals: usize,
+}
+
+/// The campaign index of the `k`-th Care-O-bot scene.
+pub fn scene_index(k: usize) -> usize {
+    let stride = scenes::ROBOTS.len();
+    let offset = scenes::ROBOTS
+        .iter()
+        .position(|&r| r == ROBOT)
+        .expect("the campaign has Care-O-bot scenes");
+    k * stride + offset
+}
+
+/// Plans scene `index` of the series `seed` sub-goal by sub-goal and
+/// chained, with the default options.
+pub fn run_scene(seed: u64, index: usize) -> SceneTransits {
+    let scenario = scenes::scene(seed, index);
+    let planner = Planner::new(PlanOptions::default());
+    let goals = work(&scenario, planner.options.seed)
+        .map(|i| i.subgoals)
+        .unwrap_or_default();
+    let alone = goals
+        .iter()
+        .filter(|goal| {
+            planner
+                .plan_goals(
+                    &scenario,
+                    std::slice::from_ref(goal),
+                    StageTimings::default(),
+                )
+                .is_ok_and(|p| p.unsolved.is_empty())
+        })
+        .count();
+    let refusals: Vec<&'static str> = match planner.plan(&scenario) {
+        Ok(plan) => plan.unsolved.iter().map(|u| u.refusal.kind()).collect(),
+        Err(e) => error_refusals(&e)
+            .into_iter()
+            .map(|(kind, _)| kind)
+            .collect(),
+    };
+    SceneTransits {
+        index,
+        subgoals: goals.len(),
+        alone,
+        chained: goals.len().saturating_sub(refusals.len()),
+        transit_refusals: refusals.iter().filter(|&&k| k == TRANSIT_REFUSAL).count(),
+        refusals,
+    }
+}
+
+/// The campaign's counts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TransitBenchReport {
+    pub seed: u64,
+    pub robot: &'static str,
+    pub scenes: usize,
+    pub subgoals: usize,
+    /// Scenes where every sub-goal plans on its own.
+    pub alone_scenes: usize,
+    /// Of those, scenes whose chained instruction plans every sub-goal.
+    pub chained_scenes: usize,
+    /// Sub-goals of the `alone_scenes`, and how many of them plan chained.
+    pub alone_scene_subgoals: usize,
+    pub alone_scene_subgoals_chained: usize,
+    /// Chained refusals in the `alone_scenes`, by kind.
+    pub chained_refusals: BTreeMap<&'static str, usize>,
+    /// Transit refusals over every scene's chained plan.
+    pub transit_refusals: usize,
+    /// Scene indices where a sub-goal that plans alone does not plan chained.
+    pub chain_losses: Vec<usize>,
+}
+
+impl TransitBenchReport {
+    pub fn of(seed: u64, outcomes: &[SceneTransits]) -> Self {
+        let complete: Vec<&SceneTransits> = outcomes
+            .iter()
+            .filter(|o| o.subgoals > 0 && o.alone == o.subgoals)
+            .collect();
+        let mut chained_refusals = BTreeMap::new();
+        for kind in complete.iter().flat_map(|o| &o.refusals) {
+            *chained_refusals.entry(*kind).or_insert(0) += 1;
+        }
+        Self {
+            seed,
+            robot: ROBOT,
+            scenes: outcomes.len(),
+            subgoals: outcomes.iter().map(|o| o.subgoals).sum(),
+            alone_scenes: complete.len(),
+            chained_scenes: complete.iter().filter(|o| o.chained == o.subgoals).count(),
+            alone_scene_subgoals: complete.iter().map(|o| o.subgoals).sum(),
+            alone_scene_subgoals_chained: complete.iter().map(|o| o.chained).sum(),
+            chained_refusals,
+            transit_refusals: outcomes.iter().map(|o| o.transit_refusals).sum(),
+            chain_losses: complete
+                .iter()
+                .filter(|o| o.chained < o.subgoals)
+                .map(|o| o.index)
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transit_bench_reads_care_o_bot_scenes_only() {
+        assert!((0..5).all(|k| scenes::robot_of(scene_index(k)) == ROBOT));
+        let outcome = |index, subgoals, alone, chained| SceneTransits {
+            index,
+            subgoals,
+            alone,
+            chained,
+            refusals: vec!["collides"; subgoals - chained],
+            transit_refusals: 0,
+        };
+        let report = TransitBenchReport::of(
+            1,
+            &[
+                outcome(1, 2, 2, 2),
+                outcome(3, 3, 3, 2),
+                outcome(5, 2, 1, 1),
+            ],
+        );
+        assert_eq!(report.alone_scenes, 2);
+        assert_eq!(report.chained_scenes, 1);
+        assert_eq!(report.alone_scene_subgoals, 5);
+        assert_eq!(report.alone_scene_subgoals_chained, 4);
+        assert_eq!(report.chain_losses, vec![3]);
+        assert_eq!(report.chained_refusals.get("collides"), Some(&1));
+    }
+}
