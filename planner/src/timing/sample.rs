@@ -84,10 +84,11 @@ impl SpeedProfile {
 /// Samples at `rate_hz`, from 0 to the duration inclusive. The first and
 /// last samples are exactly at rest on `ends` (the first and last
 /// waypoints): positions the waypoints, velocities and accelerations 0,
-/// times exactly 0 and the duration. The last step lasts between half a
-/// period and one and a half: a regular sample closer than half a period
-/// to the end is left out, since rates a controller or checker derives
-/// from positions over a microsecond step are rounding noise.
+/// times exactly 0 and the duration. Every step lasts at most one period
+/// and the last at least half of one: a regular sample closer than half a
+/// period to the end moves back to half a period before it, since rates a
+/// controller or checker derives from positions over a microsecond step
+/// are rounding noise.
 pub fn sample(
     spline: &PiecewiseCubic,
     profile: &SpeedProfile,
@@ -97,17 +98,19 @@ pub fn sample(
     let duration = profile.duration();
     let dim = spline.dim();
     let period = 1.0 / rate_hz;
-    let mut count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
-    if count >= 2 && duration - (count - 1) as f64 * period < period / 2.0 {
-        count -= 1;
-    }
+    let count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
+    let last_regular = (count.max(1) - 1) as f64 * period;
+    let before_end = match count >= 2 && duration - last_regular < period / 2.0 {
+        true => duration - period / 2.0,
+        false => last_regular,
+    };
     let mut points = Vec::with_capacity(count + 1);
     let (mut q, mut dq, mut ddq) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
     for k in 0..=count {
-        let t = if k == count {
-            duration
-        } else {
-            k as f64 * period
+        let t = match count - k {
+            0 => duration,
+            1 => before_end,
+            _ => k as f64 * period,
         };
         let (s, s_dot, s_ddot, _) = profile.state_at(t);
         spline.eval(s, &mut q, &mut dq, &mut ddq);
@@ -299,7 +302,7 @@ mod tests {
     }
 
     #[test]
-    fn sample_last_step_never_shorter_than_half_a_period() {
+    fn sample_steps_at_most_a_period_the_last_at_least_half() {
         let (_, path, profile) = timed();
         let duration = profile.duration();
         // A rate whose grid puts a regular sample 1e-4 periods before the end.
@@ -317,12 +320,13 @@ mod tests {
             last >= 0.5 / rate - 1e-12,
             "last step {last} s at {rate} Hz"
         );
-        assert!(
-            last <= 1.5 / rate + 1e-12,
-            "last step {last} s at {rate} Hz"
-        );
         assert_eq!(*times.last().unwrap(), duration);
-        assert!(times.windows(2).all(|w| w[1] > w[0]));
+        let period = 1.0 / rate;
+        assert!(
+            times
+                .windows(2)
+                .all(|w| w[1] > w[0] && w[1] - w[0] <= period + 1e-12)
+        );
     }
 
     #[test]
