@@ -42,30 +42,22 @@ pub fn physics_scene(
     let robot_start = start::state(robot, plan.start_state.as_ref())?;
     let z0 = scenario.camera.table_z;
     let (min, max) = table_extent(scenario);
-    let fixed = |name: &str, kind: BoxKind, f: Footprint, height: f64| SceneBox {
-        name: name.to_string(),
-        kind,
-        centre: f.centre,
-        size: [f.size[0], f.size[1], height],
-        yaw: f.yaw,
-        margin: 0.0,
-    };
-    let goals = scenario.goals.iter().map(|g| {
-        fixed(
-            &g.name,
-            BoxKind::Goal,
-            Footprint::of(scenario, g.bbox),
-            g.height,
-        )
-    });
-    let hands = scenario.hands.iter().map(|h| {
-        fixed(
-            &h.name,
-            BoxKind::Hand,
-            Footprint::of(scenario, h.bbox),
-            h.height,
-        )
-    });
+    let goals = (scenario.goals.iter()).map(|g| (&g.name, BoxKind::Goal, g.bbox, g.height));
+    let hands = (scenario.hands.iter()).map(|h| (&h.name, BoxKind::Hand, h.bbox, h.height));
+    let boxes = goals
+        .chain(hands)
+        .map(|(name, kind, bbox, height)| {
+            let f = Footprint::of(scenario, bbox);
+            SceneBox {
+                name: name.clone(),
+                kind,
+                centre: f.centre,
+                size: [f.size[0], f.size[1], height],
+                yaw: f.yaw,
+                margin: 0.0,
+            }
+        })
+        .collect();
     let pieces = scenario
         .objects
         .iter()
@@ -98,7 +90,7 @@ pub fn physics_scene(
             max,
             margin: 0.0,
         },
-        boxes: goals.chain(hands).collect(),
+        boxes,
         pieces,
         robot_start: Some(robot_start),
     })

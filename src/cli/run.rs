@@ -15,7 +15,7 @@ use afford_planner::timing::TimingSettings;
 use afford_planner::{JointState, PlanError, PlanOptions, plan};
 use serde::Serialize;
 
-use super::output::{emit, render};
+use super::output::{csv_header, csv_numbers, emit, render};
 use super::plan::{base_dir, load, load_robot};
 use super::{ExitKind, Failure, OutputFormat, RunArgs};
 
@@ -246,15 +246,10 @@ fn csv(monitor: &Monitor) -> String {
         .map(|s| s.joint_names.len())
         .max()
         .unwrap_or(0);
-    let names = |prefix: char| (1..=dof).map(move |j| format!("{prefix}{j}"));
-    let header: Vec<String> = ["time", "subgoal", "object", "arm", "gripper", "event"]
-        .into_iter()
-        .map(String::from)
-        .chain(names('q'))
-        .chain(names('v'))
-        .chain(names('a'))
-        .collect();
-    let mut out = header.join(",") + "\n";
+    let mut out = csv_header(
+        &["time", "subgoal", "object", "arm", "gripper", "event"],
+        dof,
+    );
     let mut events = monitor.events().iter().peekable();
     for (k, s) in monitor.executed().iter().enumerate() {
         for p in &s.trajectory.points {
@@ -263,20 +258,13 @@ fn csv(monitor: &Monitor) -> String {
             while let Some(e) = events.next_if(|e| e.time <= time + 1e-9) {
                 here.push(e.verdict);
             }
-            let numbers: Vec<String> = p
-                .positions
-                .iter()
-                .chain(&p.velocities)
-                .chain(&p.accelerations)
-                .map(|v| format!("{v}"))
-                .collect();
             out.push_str(&format!(
                 "{time},{k},{},{},{},{},{}\n",
                 s.object,
                 s.arm,
                 s.trajectory.gripper_state(p.time_from_start).name(),
                 here.join(" "),
-                numbers.join(",")
+                csv_numbers(p)
             ));
         }
     }
