@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use afford_planner::PlanOptions;
 use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 
+use super::executed;
 use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
@@ -229,20 +230,26 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
 }
 
 pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
-    use afford_planner::bench::monitor::{MonitorBenchConfig, run};
+    use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, run};
+    use afford_planner::monitor::Monitor;
     at_least_one(args.scenes, "scenes")?;
     let bar = progress_bar(args.scenes as u64, "scenes");
     let config = MonitorBenchConfig {
         scenes: args.scenes,
         seed: args.common.seed,
     };
-    let report = run(&config, |done| bar.set_position(done as u64));
+    let robot = RobotModel::builtin(ROBOT)
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    let replay = |monitor: &Monitor| {
+        executed::files(monitor, &robot).is_ok_and(|f| executed::replay(&f, &robot).passed)
+    };
+    let report = run(&config, |done| bar.set_position(done as u64), Some(&replay));
     bar.finish_and_clear();
     if args.common.json {
         return print_report(&report, true);
     }
     let mut out = format!(
-        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms, physics failures {}\n",
+        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms, physics failures {} of {}\n",
         report.relevant,
         report.detected,
         report.irrelevant,
@@ -252,6 +259,7 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
         report
             .physics_failures
             .map_or("not run".to_string(), |n| n.to_string()),
+        report.physics_runs.unwrap_or(0),
     );
     for (kind, [n, triggered]) in &report.kinds {
         out += &format!("  {kind:<18} {n:>4} perturbations, {triggered:>4} triggered\n");

@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod executed;
 mod export;
 mod output;
 mod plan;

@@ -18,6 +18,11 @@
 //! `Continue` or `Slow`; an irrelevant one is a false trigger when it is
 //! anything but `Continue`. Times: the decision (wall clock, the replan
 //! left out) and the replan of each `Replan`.
+//!
+//! Physical replay (when the caller gives one, [`PhysicsReplay`]): every
+//! perturbed execution then runs on to its end — a hand is withdrawn a
+//! second after it came, so a wait resumes — and its executed timeline is
+//! replayed; `physics_failures` counts the executions it flags.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -27,13 +32,16 @@ use super::median;
 use crate::monitor::route::REACH_M;
 use crate::monitor::separation::TOLERANCE;
 use crate::monitor::track::Track;
-use crate::monitor::{Monitor, Verdict};
+use crate::monitor::{Monitor, Verdict, timeline};
 use crate::plan::{Plan, PlanOptions, Planner, SubgoalPlan};
 use crate::scenario::{
     Camera, FORMAT_VERSION, Goal, Hand, Object, Observation, PixelBox, RobotSpec, Safety, Scenario,
 };
 use crate::timing::separation::nearest_hand_distance;
 use crate::timing::trajectory::hands;
+
+/// The robot of every scene.
+pub const ROBOT: &str = "kuka_iiwa14";
 
 /// What to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,8 +69,11 @@ pub struct MonitorBenchReport {
     pub false_triggers: usize,
     pub median_observe_us: f64,
     pub median_replan_ms: f64,
-    /// Executed runs the physical replay flags; `null`: no replay run (the
-    /// replay is not part of this build).
+    /// Perturbed executions run to their end and replayed physically;
+    /// `null`: no replay given.
+    pub physics_runs: Option<usize>,
+    /// Of those, the executions the physical replay flags; `null`: no
+    /// replay given.
     pub physics_failures: Option<usize>,
     /// Perturbations per kind: `[count, triggered]`.
     pub kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
@@ -72,10 +83,23 @@ pub struct MonitorBenchReport {
 /// the gripper's open command.
 const MOMENTS: [f64; 4] = [0.2, 0.45, 0.7, 0.9];
 
-/// Runs the benchmark; `progress(done)` after each scene.
-pub fn run(config: &MonitorBenchConfig, mut progress: impl FnMut(usize)) -> MonitorBenchReport {
+/// Replays an executed run ([`Monitor::executed`]) physically: `true` when
+/// it passes. The caller gives it (the facade passes afford-check's
+/// rapier3d replay; the planner does not depend on its checker).
+pub type PhysicsReplay<'a> = &'a dyn Fn(&Monitor) -> bool;
+
+/// Runs the benchmark; `progress(done)` after each scene; `physics`
+/// replays each perturbed execution run to its end.
+pub fn run(
+    config: &MonitorBenchConfig,
+    mut progress: impl FnMut(usize),
+    physics: Option<PhysicsReplay>,
+) -> MonitorBenchReport {
     let options = PlanOptions::default();
-    let mut tally = Tally::default();
+    let mut tally = Tally {
+        physics,
+        ..Tally::default()
+    };
     for k in 0..config.scenes {
         let mut rng =
             ChaCha8Rng::seed_from_u64(config.seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
@@ -93,7 +117,10 @@ pub fn run(config: &MonitorBenchConfig, mut progress: impl FnMut(usize)) -> Moni
 }
 
 #[derive(Default)]
-struct Tally {
+struct Tally<'a> {
+    physics: Option<PhysicsReplay<'a>>,
+    physics_runs: usize,
+    physics_failures: usize,
     relevant: usize,
     detected: usize,
     irrelevant: usize,
@@ -103,7 +130,23 @@ struct Tally {
     kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
 }
 
-impl Tally {
+impl Tally<'_> {
+    /// Runs `monitor` on to its end (the hands withdrawn a second after
+    /// `t`) and replays it physically, when a replay was given.
+    fn replay(&mut self, mut monitor: Monitor, t: f64) {
+        let Some(physics) = self.physics else {
+            return;
+        };
+        let withdrawn = Observation {
+            at: Some(t + 1.0),
+            hands: Some(Vec::new()),
+            ..Default::default()
+        };
+        timeline::play(&mut monitor, &[withdrawn]);
+        self.physics_runs += 1;
+        self.physics_failures += usize::from(!physics(&monitor));
+    }
+
     fn report(self) -> MonitorBenchReport {
         MonitorBenchReport {
             relevant: self.relevant,
@@ -112,7 +155,8 @@ impl Tally {
             false_triggers: self.false_triggers,
             median_observe_us: median(&self.observe_us),
             median_replan_ms: median(&self.replan_ms),
-            physics_failures: None,
+            physics_runs: self.physics.map(|_| self.physics_runs),
+            physics_failures: self.physics.map(|_| self.physics_failures),
             kinds: self.kinds,
         }
     }
@@ -154,7 +198,7 @@ fn scene(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
             table_z: -0.2,
         },
         robot: RobotSpec {
-            model: "kuka_iiwa14".into(),
+            model: ROBOT.into(),
             start: Some([320.0, 330.0]),
             joints: None,
         },
@@ -189,11 +233,11 @@ fn perturb(
     options: &PlanOptions,
     moment: f64,
     rng: &mut ChaCha8Rng,
-    tally: &mut Tally,
+    tally: &mut Tally<'_>,
 ) {
     let sub = &plan.subgoals[0];
     let motion = sub.trajectory.as_ref().expect("timed");
-    let robot = afford_kinematics::RobotModel::builtin("kuka_iiwa14").expect("built-in robot");
+    let robot = afford_kinematics::RobotModel::builtin(ROBOT).expect("built-in robot");
     let arm = robot
         .arm(sub.arm.as_deref().unwrap_or_default())
         .expect("planned arm");
@@ -329,6 +373,7 @@ fn perturb(
                 tally.false_triggers += usize::from(triggered);
             }
         }
+        tally.replay(monitor, t);
     }
 }
 
