@@ -93,6 +93,7 @@ pub fn physics_scene(
         boxes,
         pieces,
         robot_start: Some(robot_start),
+        presence: Vec::new(),
     })
 }
 
@@ -135,9 +136,36 @@ pub fn check_physics(
     robot: &RobotModel,
     plan: &PlanFile,
 ) -> (Option<ReplayReport>, Report) {
+    check_physics_over_time(&[(0.0, scenario)], robot, plan)
+}
+
+/// The replay's scene when the scene changed while the plan ran: `scenes`
+/// are `(t, scenario)`, `t` on the first sub-goal's clock, increasing, the
+/// first at its start; each goal, hand and object is there while it stays
+/// as it is ([`PhysicsScene::over_time`]: a moved box is two bodies, the
+/// earlier one named `NAME (until T s)`).
+pub fn physics_scene_over_time(
+    scenes: &[(f64, &Scenario)],
+    robot: &RobotModel,
+    plan: &PlanFile,
+) -> Result<PhysicsScene, String> {
+    let each = scenes
+        .iter()
+        .map(|(t, s)| Ok((*t, physics_scene(s, robot, plan)?)))
+        .collect::<Result<Vec<_>, String>>()?;
+    PhysicsScene::over_time(&each).map_err(|e| e.to_string())
+}
+
+/// [`check_physics`] in a scene that changed while the plan ran
+/// ([`physics_scene_over_time`]).
+pub fn check_physics_over_time(
+    scenes: &[(f64, &Scenario)],
+    robot: &RobotModel,
+    plan: &PlanFile,
+) -> (Option<ReplayReport>, Report) {
     let mut report = Report::default();
-    let built =
-        physics_scene(scenario, robot, plan).and_then(|scene| Ok((scene, replay_motions(plan)?)));
+    let built = physics_scene_over_time(scenes, robot, plan)
+        .and_then(|scene| Ok((scene, replay_motions(plan)?)));
     let (scene, motions) = match built {
         Ok(b) => b,
         Err(m) => {

@@ -230,7 +230,7 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
 }
 
 pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
-    use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, run};
+    use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
     use afford_planner::monitor::Monitor;
     at_least_one(args.scenes, "scenes")?;
     let bar = progress_bar(args.scenes as u64, "scenes");
@@ -240,26 +240,36 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
     };
     let robot = RobotModel::builtin(ROBOT)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
-    let replay = |monitor: &Monitor| {
-        executed::files(monitor, &robot).is_ok_and(|f| executed::replay(&f, &robot).passed)
+    let recheck = |monitor: &Monitor| match executed::files(monitor, &robot) {
+        Ok(files) => Rechecked {
+            violations: executed::check(&files, &robot),
+            physics: executed::replay(&files, &robot).failures(),
+        },
+        Err(e) => Rechecked {
+            violations: vec![e],
+            physics: Vec::new(),
+        },
     };
-    let report = run(&config, |done| bar.set_position(done as u64), Some(&replay));
+    let report = run(
+        &config,
+        |done| bar.set_position(done as u64),
+        Some(&recheck),
+    );
     bar.finish_and_clear();
     if args.common.json {
         return print_report(&report, true);
     }
     let mut out = format!(
-        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms, physics failures {} of {}\n",
+        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms\nexecutions re-checked {}: check failures {}, physics failures {}\n",
         report.relevant,
         report.detected,
         report.irrelevant,
         report.false_triggers,
         report.median_observe_us,
         report.median_replan_ms,
-        report
-            .physics_failures
-            .map_or("not run".to_string(), |n| n.to_string()),
         report.physics_runs.unwrap_or(0),
+        report.check_failures.unwrap_or(0),
+        report.physics_failures.unwrap_or(0),
     );
     for (kind, [n, triggered]) in &report.kinds {
         out += &format!("  {kind:<18} {n:>4} perturbations, {triggered:>4} triggered\n");

@@ -6,14 +6,18 @@
 //! every perturbed execution; the planner never calls the checker (the
 //! dependencies point one way), so the wiring lives here.
 //!
-//! A sub-goal's scene is the one [`ExecutedSubgoal::scene`] records: the
+//! The check's scene is the one [`ExecutedSubgoal::scene`] records: the
 //! goals as believed when it ended, its object where the gripper took it
 //! from, the other objects and the hands that stayed put from its start to
-//! its end; the robot starts where the earlier sub-goals left it. A
-//! sub-goal cut short by an abort has no such scene: it is neither checked
+//! its end. The replay's scene changes as the believed scene did while the
+//! sub-goal ran ([`ExecutedSubgoal::changes`]): a hand is there from when
+//! it came until it left, a moved box or piece at its first place until it
+//! moved and at its new one after, the sub-goal's own object always where
+//! it was grasped. The robot starts where the earlier sub-goals left it. A
+//! sub-goal cut short by an abort has no end scene: it is neither checked
 //! nor replayed.
 
-use afford_check::physics::check_physics;
+use afford_check::physics::check_physics_over_time;
 use afford_check::{PlanFile, ViolationClass, check_plan, read_plan};
 use afford_collision::replay::ReplayReport;
 use afford_kinematics::RobotModel;
@@ -30,6 +34,9 @@ pub struct ExecutedFile {
     pub scene: Scenario,
     /// The sub-goal alone, from the whole robot's state where it began.
     pub file: PlanFile,
+    /// The scene believed while it ran: `(t, scene)`, `t` from its start,
+    /// the first at 0, its object where it was grasped in each.
+    pub timeline: Vec<(f64, Scenario)>,
 }
 
 /// Every executed sub-goal that ended, as a plan file with its scene.
@@ -41,7 +48,7 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
             continue;
         };
         let start = whole_state(monitor, robot, k);
-        let scene = Scenario {
+        let from_start = |s: &Scenario| Scenario {
             robot: RobotSpec {
                 start: None,
                 joints: Some(
@@ -52,11 +59,22 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
                         .zip(start.positions.iter().copied())
                         .collect(),
                 ),
-                ..scene.robot.clone()
+                ..s.robot.clone()
             },
             observations: Vec::new(),
-            ..scene.clone()
+            ..s.clone()
         };
+        let scene = from_start(scene);
+        let grasped = scene.object_index(&sub.object).map(|i| &scene.objects[i]);
+        let timeline = (sub.scene_at_start.iter().map(|s| (0.0, s)))
+            .chain(sub.changes.iter().map(|(t, s)| (*t, s)))
+            .map(|(t, s)| {
+                let mut s = from_start(s);
+                s.objects.retain(|o| o.name != sub.object);
+                s.objects.extend(grasped.cloned());
+                (t, s)
+            })
+            .collect();
         #[derive(Serialize)]
         struct One<'a> {
             start_state: &'a JointState,
@@ -72,6 +90,7 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
             index: k,
             scene,
             file,
+            timeline,
         });
     }
     Ok(out)
@@ -129,12 +148,14 @@ impl RunReplay {
     }
 }
 
-/// Replays every executed sub-goal physically, each alone in its scene.
+/// Replays every executed sub-goal physically, each alone in its scene as
+/// it changed while the sub-goal ran.
 pub fn replay(files: &[ExecutedFile], robot: &RobotModel) -> RunReplay {
     let subgoals: Vec<SubgoalReplay> = files
         .iter()
         .map(|f| {
-            let (report, found) = check_physics(&f.scene, robot, &f.file);
+            let timeline: Vec<(f64, &Scenario)> = f.timeline.iter().map(|(t, s)| (*t, s)).collect();
+            let (report, found) = check_physics_over_time(&timeline, robot, &f.file);
             let failures: Vec<String> = found
                 .of(ViolationClass::Physics)
                 .map(|v| v.message.clone())

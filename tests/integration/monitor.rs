@@ -145,6 +145,15 @@ fn monitor_pieces_added_become_new_work_both_robots() {
             !objects.contains(&"red-square-1"),
             "the red piece is not asked for"
         );
+        // The pieces that came during the first carry are in its physical
+        // replay from when they came, and nothing pushed them.
+        let first = &json["physics"]["subgoals"][0]["report"]["pieces"];
+        let names: Vec<&str> = (first.as_array().expect("pieces").iter())
+            .map(|p| p["piece"].as_str().expect("name"))
+            .collect();
+        for came in ["blue-square-3", "blue-square-4", "red-square-1"] {
+            assert!(names.contains(&came), "{robot}: {names:?}");
+        }
     }
 }
 
@@ -174,6 +183,14 @@ fn monitor_piece_moved_away_changes_nothing_both_robots() {
         assert_eq!(verdicts, ["continue"], "{robot}");
         assert_eq!(json["events"][0]["changes"][0], "object red-square-1 moved");
         completed(&json, 1);
+        // The replay has the red square at both places, each for its time.
+        let pieces = &json["physics"]["subgoals"][0]["report"]["pieces"];
+        let names: Vec<&str> = (pieces.as_array().expect("pieces").iter())
+            .map(|p| p["piece"].as_str().expect("name"))
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        assert!(names[0].starts_with("red-square-1 (until "), "{names:?}");
+        assert_eq!(names[1], "red-square-1");
         // Nothing happened: the executed timeline is the plan's own.
         let planned = afford(&[
             "plan",
@@ -284,8 +301,9 @@ fn monitor_run_replays_its_result_physically_the_piece_rests_in_the_moved_goal_b
     }
 }
 
-/// `afford bench monitor` runs every perturbed execution to its end and
-/// replays it physically: `physics_runs` counts them all, none fails.
+/// `afford bench monitor` runs every perturbed execution to its end,
+/// re-checks it and replays it physically: `physics_runs` counts them all;
+/// on these scenes none fails either.
 #[test]
 fn monitor_bench_replays_every_perturbed_execution_physically() {
     let result = afford(&["bench", "monitor", "--scenes", "2", "--json"]);
@@ -296,4 +314,5 @@ fn monitor_bench_replays_every_perturbed_execution_physically() {
     assert!(perturbations > 0, "{json:#}");
     assert_eq!(count("physics_runs"), perturbations, "{json:#}");
     assert_eq!(count("physics_failures"), 0, "{json:#}");
+    assert_eq!(count("check_failures"), 0, "{json:#}");
 }

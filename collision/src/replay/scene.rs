@@ -116,9 +116,100 @@ pub struct PhysicsScene {
     /// `None`: the robot's home.
     #[serde(default)]
     pub robot_start: Option<Vec<f64>>,
+    /// Boxes and pieces that are there only part of the time (a hand that
+    /// comes and goes, a box a person moves: its two places are two
+    /// bodies); every other body is there throughout.
+    #[serde(default)]
+    pub presence: Vec<Presence>,
+}
+
+/// A moment of a replay: motion index and time on that motion's clock, s.
+pub type Moment = (usize, f64);
+
+/// When one box or piece is in the world: from `from` (`None`: the start)
+/// until `until` (`None`: the end), a half-open interval. Absent, it
+/// neither collides nor moves.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Presence {
+    /// The box's or the piece's name.
+    pub body: String,
+    #[serde(default)]
+    pub from: Option<Moment>,
+    #[serde(default)]
+    pub until: Option<Moment>,
+}
+
+impl Presence {
+    /// True when the body is there at moment `at`.
+    pub fn at(&self, at: Moment) -> bool {
+        let before = |a: Moment, b: Moment| a.0 < b.0 || (a.0 == b.0 && a.1 < b.1);
+        self.from.is_none_or(|f| !before(at, f)) && self.until.is_none_or(|u| before(at, u))
+    }
 }
 
 impl PhysicsScene {
+    /// One scene from the scenes of one motion over time (`(t, scene)`,
+    /// `t` on motion 0's clock, increasing, the first at the start): the
+    /// table, the robot start and the pieces' order from the first; each
+    /// box or piece present while it stays unchanged (same name, kind,
+    /// place and size). A body there at the end keeps its name; an earlier
+    /// one is named `NAME (until T s)`.
+    pub fn over_time(scenes: &[(f64, PhysicsScene)]) -> Result<Self, CollisionError> {
+        let Some((_, first)) = scenes.first() else {
+            return Err(scene_err("scenes", "no scene"));
+        };
+        let mut out = Self {
+            boxes: Vec::new(),
+            pieces: Vec::new(),
+            presence: Vec::new(),
+            ..first.clone()
+        };
+        let moments: Vec<Option<Moment>> = scenes
+            .iter()
+            .enumerate()
+            .map(|(i, (t, _))| (i > 0).then_some((0, *t)))
+            .collect();
+        // Where body `b` of scene `i` is unchanged: scenes i..j.
+        let span = |i: usize, same: &dyn Fn(&PhysicsScene) -> bool| {
+            i + scenes[i..].iter().take_while(|(_, s)| same(s)).count()
+        };
+        let mut presence = |name: &str, i: usize, j: usize| {
+            let until = moments.get(j).copied().flatten();
+            let name = match until {
+                Some((_, t)) => format!("{name} (until {t:.3} s)"),
+                None => name.to_string(),
+            };
+            if i > 0 || until.is_some() {
+                out.presence.push(Presence {
+                    body: name.clone(),
+                    from: moments[i],
+                    until,
+                });
+            }
+            name
+        };
+        for (i, (_, scene)) in scenes.iter().enumerate() {
+            for b in &scene.boxes {
+                let earlier = |s: &PhysicsScene| s.boxes.contains(b);
+                if i > 0 && earlier(&scenes[i - 1].1) {
+                    continue;
+                }
+                let name = presence(&b.name, i, span(i, &earlier));
+                out.boxes.push(SceneBox { name, ..b.clone() });
+            }
+            for p in &scene.pieces {
+                let earlier = |s: &PhysicsScene| s.pieces.contains(p);
+                if i > 0 && earlier(&scenes[i - 1].1) {
+                    continue;
+                }
+                let name = presence(&p.name, i, span(i, &earlier));
+                out.pieces.push(PhysicsPiece { name, ..p.clone() });
+            }
+        }
+        Ok(out)
+    }
+
     /// Index of a piece by name.
     pub fn piece_index(&self, name: &str) -> Option<usize> {
         self.pieces.iter().position(|p| p.name == name)
@@ -166,6 +257,17 @@ impl PhysicsScene {
             }
             if !(p.friction.is_finite() && (0.0..=2.0).contains(&p.friction)) {
                 return Err(scene_err(field("friction"), "must be in [0, 2]"));
+            }
+        }
+        for (i, p) in self.presence.iter().enumerate() {
+            let field = |f: &str| format!("presence[{i}] ({}).{f}", p.body);
+            let known = self.pieces.iter().any(|q| q.name == p.body)
+                || self.boxes.iter().any(|b| b.name == p.body);
+            if !known || self.presence[..i].iter().any(|q| q.body == p.body) {
+                return Err(scene_err(field("body"), "must name a box or piece, once"));
+            }
+            if [p.from, p.until].iter().flatten().any(|m| !m.1.is_finite()) {
+                return Err(scene_err(field("from"), "times must be finite"));
             }
         }
         Ok(())
