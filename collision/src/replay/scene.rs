@@ -96,6 +96,64 @@ impl PhysicsPiece {
     }
 }
 
+/// A box or piece of a replay's scene: named, and renamed when it is there
+/// only for a while.
+trait Body: Clone + PartialEq {
+    fn name(&self) -> &str;
+    fn renamed(&self, name: String) -> Self;
+}
+
+/// Both kinds of body keep their name in a `name` field.
+macro_rules! named_body {
+    ($($t:ty),*) => {$(
+        impl Body for $t {
+            fn name(&self) -> &str {
+                &self.name
+            }
+            fn renamed(&self, name: String) -> Self {
+                Self { name, ..self.clone() }
+            }
+        }
+    )*};
+}
+
+named_body!(SceneBox, PhysicsPiece);
+
+/// The bodies of one list (`list` picks it from a scene) over the scenes:
+/// each once per stretch of scenes it stays the same in, its interval
+/// added to `presence` unless it is there throughout
+/// ([`PhysicsScene::over_time`]).
+fn bodies_over_time<T: Body>(
+    scenes: &[(f64, PhysicsScene)],
+    list: impl Fn(&PhysicsScene) -> &[T],
+    presence: &mut Vec<Presence>,
+) -> Vec<T> {
+    let moment = |i: usize| (i > 0 && i < scenes.len()).then(|| (0, scenes[i].0));
+    let mut out = Vec::new();
+    for (i, (_, scene)) in scenes.iter().enumerate() {
+        for b in list(scene) {
+            if i > 0 && list(&scenes[i - 1].1).contains(b) {
+                continue;
+            }
+            let stays = scenes[i..].iter().take_while(|(_, s)| list(s).contains(b));
+            let until = moment(i + stays.count());
+            let name = match until {
+                Some((_, t)) => format!("{} (until {t:.3} s)", b.name()),
+                None => b.name().to_string(),
+            };
+            if i > 0 || until.is_some() {
+                presence.push(Presence {
+                    body: name.clone(),
+                    from: moment(i),
+                    until,
+                });
+            }
+            out.push(b.renamed(name));
+        }
+    }
+    out
+}
+
 /// The scene of a replay.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -151,63 +209,23 @@ impl Presence {
 impl PhysicsScene {
     /// One scene from the scenes of one motion over time (`(t, scene)`,
     /// `t` on motion 0's clock, increasing, the first at the start): the
-    /// table, the robot start and the pieces' order from the first; each
-    /// box or piece present while it stays unchanged (same name, kind,
-    /// place and size). A body there at the end keeps its name; an earlier
-    /// one is named `NAME (until T s)`.
+    /// table and the robot start from the first; each box or piece present
+    /// while it stays unchanged (same name, kind, place and size), in the
+    /// order they first appear. A body there at the end keeps its name; an
+    /// earlier one is named `NAME (until T s)`.
     pub fn over_time(scenes: &[(f64, PhysicsScene)]) -> Result<Self, CollisionError> {
         let Some((_, first)) = scenes.first() else {
             return Err(scene_err("scenes", "no scene"));
         };
-        let mut out = Self {
-            boxes: Vec::new(),
-            pieces: Vec::new(),
-            presence: Vec::new(),
+        let mut presence = Vec::new();
+        let boxes = bodies_over_time(scenes, |s| &s.boxes, &mut presence);
+        let pieces = bodies_over_time(scenes, |s| &s.pieces, &mut presence);
+        Ok(Self {
+            boxes,
+            pieces,
+            presence,
             ..first.clone()
-        };
-        let moments: Vec<Option<Moment>> = scenes
-            .iter()
-            .enumerate()
-            .map(|(i, (t, _))| (i > 0).then_some((0, *t)))
-            .collect();
-        // Where body `b` of scene `i` is unchanged: scenes i..j.
-        let span = |i: usize, same: &dyn Fn(&PhysicsScene) -> bool| {
-            i + scenes[i..].iter().take_while(|(_, s)| same(s)).count()
-        };
-        let mut presence = |name: &str, i: usize, j: usize| {
-            let until = moments.get(j).copied().flatten();
-            let name = match until {
-                Some((_, t)) => format!("{name} (until {t:.3} s)"),
-                None => name.to_string(),
-            };
-            if i > 0 || until.is_some() {
-                out.presence.push(Presence {
-                    body: name.clone(),
-                    from: moments[i],
-                    until,
-                });
-            }
-            name
-        };
-        for (i, (_, scene)) in scenes.iter().enumerate() {
-            for b in &scene.boxes {
-                let earlier = |s: &PhysicsScene| s.boxes.contains(b);
-                if i > 0 && earlier(&scenes[i - 1].1) {
-                    continue;
-                }
-                let name = presence(&b.name, i, span(i, &earlier));
-                out.boxes.push(SceneBox { name, ..b.clone() });
-            }
-            for p in &scene.pieces {
-                let earlier = |s: &PhysicsScene| s.pieces.contains(p);
-                if i > 0 && earlier(&scenes[i - 1].1) {
-                    continue;
-                }
-                let name = presence(&p.name, i, span(i, &earlier));
-                out.pieces.push(PhysicsPiece { name, ..p.clone() });
-            }
-        }
-        Ok(out)
+        })
     }
 
     /// Index of a piece by name.
