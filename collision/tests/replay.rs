@@ -277,7 +277,7 @@ fn replay_body_present_part_of_the_time_is_touched_only_while_there() {
     let (first, last) = touched(window(None, Some(0.05))).expect("touched before leaving");
     assert!(first < 0.01 && last < 0.05 && last > 0.04, "{first} {last}");
     let (first, last) = touched(window(Some(0.1), None)).expect("touched after coming");
-    assert!(first >= 0.1 && first < 0.11 && last > 1.1, "{first} {last}");
+    assert!((0.1..0.11).contains(&first) && last > 1.1, "{first} {last}");
     assert_eq!(touched(window(Some(5.0), None)), None);
 }
 
