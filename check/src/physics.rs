@@ -42,30 +42,22 @@ pub fn physics_scene(
     let robot_start = start::state(robot, plan.start_state.as_ref())?;
     let z0 = scenario.camera.table_z;
     let (min, max) = table_extent(scenario);
-    let fixed = |name: &str, kind: BoxKind, f: Footprint, height: f64| SceneBox {
-        name: name.to_string(),
-        kind,
-        centre: f.centre,
-        size: [f.size[0], f.size[1], height],
-        yaw: f.yaw,
-        margin: 0.0,
-    };
-    let goals = scenario.goals.iter().map(|g| {
-        fixed(
-            &g.name,
-            BoxKind::Goal,
-            Footprint::of(scenario, g.bbox),
-            g.height,
-        )
-    });
-    let hands = scenario.hands.iter().map(|h| {
-        fixed(
-            &h.name,
-            BoxKind::Hand,
-            Footprint::of(scenario, h.bbox),
-            h.height,
-        )
-    });
+    let goals = (scenario.goals.iter()).map(|g| (&g.name, BoxKind::Goal, g.bbox, g.height));
+    let hands = (scenario.hands.iter()).map(|h| (&h.name, BoxKind::Hand, h.bbox, h.height));
+    let boxes = goals
+        .chain(hands)
+        .map(|(name, kind, bbox, height)| {
+            let f = Footprint::of(scenario, bbox);
+            SceneBox {
+                name: name.clone(),
+                kind,
+                centre: f.centre,
+                size: [f.size[0], f.size[1], height],
+                yaw: f.yaw,
+                margin: 0.0,
+            }
+        })
+        .collect();
     let pieces = scenario
         .objects
         .iter()
@@ -98,9 +90,10 @@ pub fn physics_scene(
             max,
             margin: 0.0,
         },
-        boxes: goals.chain(hands).collect(),
+        boxes,
         pieces,
         robot_start: Some(robot_start),
+        presence: Vec::new(),
     })
 }
 
@@ -143,9 +136,36 @@ pub fn check_physics(
     robot: &RobotModel,
     plan: &PlanFile,
 ) -> (Option<ReplayReport>, Report) {
+    check_physics_over_time(&[(0.0, scenario)], robot, plan)
+}
+
+/// The replay's scene when the scene changed while the plan ran: `scenes`
+/// are `(t, scenario)`, `t` on the first sub-goal's clock, increasing, the
+/// first at its start; each goal, hand and object is there while it stays
+/// as it is ([`PhysicsScene::over_time`]: a moved box is two bodies, the
+/// earlier one named `NAME (until T s)`).
+pub fn physics_scene_over_time(
+    scenes: &[(f64, &Scenario)],
+    robot: &RobotModel,
+    plan: &PlanFile,
+) -> Result<PhysicsScene, String> {
+    let each = scenes
+        .iter()
+        .map(|(t, s)| Ok((*t, physics_scene(s, robot, plan)?)))
+        .collect::<Result<Vec<_>, String>>()?;
+    PhysicsScene::over_time(&each).map_err(|e| e.to_string())
+}
+
+/// [`check_physics`] in a scene that changed while the plan ran
+/// ([`physics_scene_over_time`]).
+pub fn check_physics_over_time(
+    scenes: &[(f64, &Scenario)],
+    robot: &RobotModel,
+    plan: &PlanFile,
+) -> (Option<ReplayReport>, Report) {
     let mut report = Report::default();
-    let built =
-        physics_scene(scenario, robot, plan).and_then(|scene| Ok((scene, replay_motions(plan)?)));
+    let built = physics_scene_over_time(scenes, robot, plan)
+        .and_then(|scene| Ok((scene, replay_motions(plan)?)));
     let (scene, motions) = match built {
         Ok(b) => b,
         Err(m) => {

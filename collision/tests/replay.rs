@@ -5,8 +5,8 @@
 //! table is lower), bad input is named in the report, never a panic.
 
 use afford_collision::replay::{
-    BodyKind, Grasp, PhysicsPiece, PhysicsScene, PieceShape, ReplayMotion, ReplaySettings, replay,
-    replay_with,
+    BodyKind, Grasp, PhysicsPiece, PhysicsScene, PieceShape, Presence, ReplayMotion,
+    ReplaySettings, replay, replay_with,
 };
 use afford_collision::{BoxKind, SceneBox, TableSpec};
 use afford_kinematics::RobotModel;
@@ -57,6 +57,7 @@ fn scene(table_z: f64, goal_at: [f64; 2], pieces: Vec<PhysicsPiece>) -> PhysicsS
         }],
         pieces,
         robot_start: None,
+        presence: Vec::new(),
     }
 }
 
@@ -231,4 +232,80 @@ fn replay_held_piece_touching_a_hand_is_a_contact() {
         "{:?}",
         report.contacts
     );
+}
+
+/// A hand box closing around the fingers at home, standing on the table.
+fn hand_around_the_fingers(robot: &RobotModel) -> SceneBox {
+    let [x, y, z] = home_tool(robot);
+    SceneBox {
+        name: "hand-1".into(),
+        kind: BoxKind::Hand,
+        centre: [x, y],
+        size: [0.2, 0.2, z + 0.4 + 0.05],
+        yaw: 0.0,
+        margin: 0.0,
+    }
+}
+
+/// A body there only part of the time is touched only then: a hand around
+/// the resting fingers is a contact over the whole motion when it is there
+/// throughout, until 0.05 s when it leaves then, from 0.1 s when it comes
+/// then, and never when it comes after the replay's end.
+#[test]
+fn replay_body_present_part_of_the_time_is_touched_only_while_there() {
+    let robot = iiwa();
+    let touched = |presence: Vec<Presence>| {
+        let mut s = scene(-0.4, [0.3, 0.3], vec![]);
+        s.boxes.push(hand_around_the_fingers(&robot));
+        s.presence = presence;
+        let report = replay(&s, &robot, &[rest(&robot, 0.2, None)]);
+        let hand: Vec<_> = (report.contacts.iter())
+            .filter(|c| c.body == "hand-1")
+            .map(|c| (c.first, c.last))
+            .collect();
+        (hand.iter().map(|c| c.0).reduce(f64::min)).zip(hand.iter().map(|c| c.1).reduce(f64::max))
+    };
+    let window = |from: Option<f64>, until: Option<f64>| {
+        vec![Presence {
+            body: "hand-1".into(),
+            from: from.map(|t| (0, t)),
+            until: until.map(|t| (0, t)),
+        }]
+    };
+    let (first, last) = touched(Vec::new()).expect("touched throughout");
+    assert!(first < 0.01 && last > 1.1, "{first} {last}");
+    let (first, last) = touched(window(None, Some(0.05))).expect("touched before leaving");
+    assert!(first < 0.01 && last < 0.05 && last > 0.04, "{first} {last}");
+    let (first, last) = touched(window(Some(0.1), None)).expect("touched after coming");
+    assert!((0.1..0.11).contains(&first) && last > 1.1, "{first} {last}");
+    assert_eq!(touched(window(Some(5.0), None)), None);
+}
+
+/// Scenes over time become one scene: a box that moved is two bodies (the
+/// earlier one renamed, there until the move), a hand that came is there
+/// from then, what stayed is there throughout.
+#[test]
+fn replay_scene_over_time_names_each_place_and_its_interval() {
+    let robot = iiwa();
+    let before = scene(-0.4, [0.5, 0.2], vec![]);
+    let mut after = scene(-0.4, [0.5, -0.2], vec![]);
+    after.boxes.push(hand_around_the_fingers(&robot));
+    let merged = PhysicsScene::over_time(&[(0.0, before.clone()), (1.5, after)]).expect("merge");
+    let names: Vec<&str> = merged.boxes.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(names, ["left box (until 1.500 s)", "left box", "hand-1"]);
+    assert_eq!(merged.boxes[0].centre, [0.5, 0.2]);
+    assert_eq!(merged.boxes[1].centre, [0.5, -0.2]);
+    let presence: Vec<_> = (merged.presence.iter())
+        .map(|p| (p.body.as_str(), p.from, p.until))
+        .collect();
+    assert_eq!(
+        presence,
+        [
+            ("left box (until 1.500 s)", None, Some((0, 1.5))),
+            ("left box", Some((0, 1.5)), None),
+            ("hand-1", Some((0, 1.5)), None),
+        ]
+    );
+    let same = PhysicsScene::over_time(&[(0.0, before.clone()), (1.0, before.clone())]);
+    assert_eq!(same.expect("merge"), before);
 }

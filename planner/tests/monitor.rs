@@ -57,7 +57,7 @@ fn monitor_braking_stops_on_plan_samples_within_the_joint_limits() {
 
 #[test]
 fn monitor_relevant_always_detected_irrelevant_never_triggers() {
-    let report = run(&MonitorBenchConfig { scenes: 4, seed: 7 }, |_| {});
+    let report = run(&MonitorBenchConfig { scenes: 4, seed: 7 }, |_| {}, None);
     assert!(report.relevant >= 20, "{report:?}");
     assert!(report.irrelevant >= 5, "{report:?}");
     assert_eq!(report.detected, report.relevant, "{report:?}");

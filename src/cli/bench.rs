@@ -6,7 +6,7 @@ use afford_check::PlanFile;
 use afford_kinematics::RobotModel;
 use afford_planner::bench::cql::{self, CqlBenchConfig};
 use afford_planner::bench::safety::{Finding, Robots, SafetyReport, run_scene};
-use afford_planner::bench::{scenes, transits};
+use afford_planner::bench::{routes, scenes, transits};
 use afford_planner::{Plan, Scenario};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use afford_planner::PlanOptions;
 use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 
+use super::executed;
 use super::output::print;
 use super::plan::{base_dir, load};
 use super::{
@@ -22,21 +23,16 @@ use super::{
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
-    if args.scenarios == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--scenarios must be at least 1",
-        ));
-    }
+    at_least_one(args.scenarios, "scenarios")?;
     let config = CqlBenchConfig {
         scenarios: args.scenarios,
-        seed: args.seed,
+        seed: args.common.seed,
         ..Default::default()
     };
     let bar = progress_bar(args.scenarios as u64, "scenes");
     let report = cql::run(&config, |done| bar.set_position(done as u64));
     bar.finish_and_clear();
-    if args.json {
+    if args.common.json {
         print_report(&report, true)
     } else {
         print(&report.table())
@@ -44,18 +40,13 @@ pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
 }
 
 pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
-    if args.poses == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--poses must be at least 1",
-        ));
-    }
+    at_least_one(args.poses, "poses")?;
     let bar = progress_bar(1, "runs");
     bar.set_message("solving");
-    let report = afford_kinematics::ik_benchmark(args.poses, args.seed)
+    let report = afford_kinematics::ik_benchmark(args.poses, args.common.seed)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     bar.finish_and_clear();
-    if args.json {
+    if args.common.json {
         return print_report(&report, true);
     }
     let mut out = format!(
@@ -105,12 +96,7 @@ pub fn timing(args: &BenchSeedArgs) -> Result<(), Failure> {
 }
 
 pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
-    if args.runs == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--runs must be at least 1",
-        ));
-    }
+    at_least_one(args.runs, "runs")?;
     let scenario = load(args.scenario.as_deref())?;
     let options = PlanOptions {
         base_dir: base_dir(args.scenario.as_deref()),
@@ -126,30 +112,15 @@ pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
 }
 
 pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
-    if args.scenarios == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--scenarios must be at least 1",
-        ));
-    }
+    let seed = args.common.seed;
+    at_least_one(args.scenarios, "scenarios")?;
     if let Some(dir) = &args.write_scenes {
-        write_scenes(dir, args.seed, args.scenarios)?;
+        write_scenes(dir, seed, args.scenarios)?;
     }
     let robots = Robots::load().map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
-    let bar = progress_bar(args.scenarios as u64, "scenes");
-    // Scenes in parallel, collected in scene order: the report does not
-    // depend on the thread count.
-    let outcomes: Vec<_> = (0..args.scenarios)
-        .into_par_iter()
-        .map(|k| {
-            let outcome = run_scene(&robots, args.seed, k, &recheck);
-            bar.inc(1);
-            outcome
-        })
-        .collect();
-    bar.finish_and_clear();
-    let report = SafetyReport::of(args.seed, &outcomes);
-    if args.json {
+    let outcomes = scenes_in_parallel(args.scenarios, |k| run_scene(&robots, seed, k, &recheck));
+    let report = SafetyReport::of(seed, &outcomes);
+    if args.common.json {
         print_report(&report, true)
     } else {
         print(&report.table())
@@ -157,51 +128,48 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
 }
 
 pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
-    if args.scenes == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--scenes must be at least 1",
-        ));
-    }
-    let bar = progress_bar(args.scenes as u64, "scenes");
-    // Scenes in parallel, collected in order: the report does not depend
-    // on the thread count.
-    let outcomes: Vec<_> = (0..args.scenes)
+    let seed = args.common.seed;
+    at_least_one(args.scenes, "scenes")?;
+    let outcomes = scenes_in_parallel(args.scenes, |k| {
+        transits::run_scene(seed, transits::scene_index(k))
+    });
+    let report = transits::TransitBenchReport::of(seed, &outcomes);
+    print_report(&report, args.common.json)
+}
+
+pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
+    let seed = args.common.seed;
+    at_least_one(args.scenarios, "scenarios")?;
+    let measured = scenes_in_parallel(args.scenarios, |k| routes::run_scene(seed, k));
+    let report = routes::RoutesReport::of(seed, args.scenarios, &measured);
+    print_report(&report, args.common.json)
+}
+
+/// `run(k)` for scenes `0..count` in parallel under a progress bar,
+/// collected in scene order: the result does not depend on the thread count.
+fn scenes_in_parallel<T: Send>(count: usize, run: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let bar = progress_bar(count as u64, "scenes");
+    let outcomes = (0..count)
         .into_par_iter()
         .map(|k| {
-            let outcome = transits::run_scene(args.seed, transits::scene_index(k));
+            let outcome = run(k);
             bar.inc(1);
             outcome
         })
         .collect();
     bar.finish_and_clear();
-    print_report(
-        &transits::TransitBenchReport::of(args.seed, &outcomes),
-        args.json,
-    )
+    outcomes
 }
 
-pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
-    if args.scenarios == 0 {
-        return Err(Failure::new(
+/// A count option must be at least 1: `--{flag} must be at least 1`.
+fn at_least_one(count: usize, flag: &str) -> Result<(), Failure> {
+    match count {
+        0 => Err(Failure::new(
             ExitKind::BadInput,
-            "--scenarios must be at least 1",
-        ));
+            format!("--{flag} must be at least 1"),
+        )),
+        _ => Ok(()),
     }
-    let bar = progress_bar(args.scenarios as u64, "scenes");
-    // Scenes in parallel, collected in scene order (thread count independent).
-    let measured: Vec<_> = (0..args.scenarios)
-        .into_par_iter()
-        .map(|k| {
-            let measured = afford_planner::bench::routes::run_scene(args.seed, k);
-            bar.inc(1);
-            measured
-        })
-        .collect();
-    bar.finish_and_clear();
-    let report =
-        afford_planner::bench::routes::RoutesReport::of(args.seed, args.scenarios, &measured);
-    print_report(&report, args.json)
 }
 
 /// Writes scenes `0..count` of the series `seed` as YAML scenario files.
@@ -262,34 +230,46 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
 }
 
 pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
-    use afford_planner::bench::monitor::{MonitorBenchConfig, run};
-    if args.scenes == 0 {
-        return Err(Failure::new(
-            ExitKind::BadInput,
-            "--scenes must be at least 1",
-        ));
-    }
+    use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
+    use afford_planner::monitor::Monitor;
+    at_least_one(args.scenes, "scenes")?;
     let bar = progress_bar(args.scenes as u64, "scenes");
     let config = MonitorBenchConfig {
         scenes: args.scenes,
-        seed: args.seed,
+        seed: args.common.seed,
     };
-    let report = run(&config, |done| bar.set_position(done as u64));
+    let robot = RobotModel::builtin(ROBOT)
+        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    let recheck = |monitor: &Monitor| match executed::files(monitor, &robot) {
+        Ok(files) => Rechecked {
+            violations: executed::check(&files, &robot),
+            physics: executed::replay(&files, &robot).failures(),
+        },
+        Err(e) => Rechecked {
+            violations: vec![e],
+            physics: Vec::new(),
+        },
+    };
+    let report = run(
+        &config,
+        |done| bar.set_position(done as u64),
+        Some(&recheck),
+    );
     bar.finish_and_clear();
-    if args.json {
+    if args.common.json {
         return print_report(&report, true);
     }
     let mut out = format!(
-        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms, physics failures {}\n",
+        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms\nexecutions re-checked {}: check failures {}, physics failures {}\n",
         report.relevant,
         report.detected,
         report.irrelevant,
         report.false_triggers,
         report.median_observe_us,
         report.median_replan_ms,
-        report
-            .physics_failures
-            .map_or("not run".to_string(), |n| n.to_string()),
+        report.physics_runs.unwrap_or(0),
+        report.check_failures.unwrap_or(0),
+        report.physics_failures.unwrap_or(0),
     );
     for (kind, [n, triggered]) in &report.kinds {
         out += &format!("  {kind:<18} {n:>4} perturbations, {triggered:>4} triggered\n");

@@ -2,6 +2,7 @@
 
 mod bench;
 mod check;
+mod executed;
 mod export;
 mod output;
 mod plan;
@@ -228,12 +229,8 @@ pub struct BenchTransitsArgs {
     /// Number of Care-O-bot scenes (the odd scenes of the safety campaign's series).
     #[arg(long, default_value_t = 200)]
     pub scenes: usize,
-    /// Seed of the scene series (the safety campaign's).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -241,12 +238,8 @@ pub struct BenchRoutesArgs {
     /// Number of generated scenes (the safety campaign's series).
     #[arg(long, default_value_t = 200)]
     pub scenarios: usize,
-    /// Seed of the scene series.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -254,12 +247,8 @@ pub struct BenchMonitorArgs {
     /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
     #[arg(long, default_value_t = afford_planner::bench::monitor::MonitorBenchConfig::default().scenes)]
     pub scenes: usize,
-    /// Seed of the scene series.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -267,12 +256,8 @@ pub struct BenchSafetyArgs {
     /// Number of generated scenes (even ones kuka_iiwa14, odd ones care_o_bot4).
     #[arg(long, default_value_t = 100)]
     pub scenarios: usize,
-    /// Seed of the scene series; same seed, same scenes and the same report.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
     /// Also write every generated scene to this folder as `safety-SEED-K.yaml`, to replay one with `afford plan`.
     #[arg(long, value_name = "DIR")]
     pub write_scenes: Option<PathBuf>,
@@ -290,9 +275,10 @@ pub struct BenchPipelineArgs {
     pub json: bool,
 }
 
+/// The options every seeded benchmark takes.
 #[derive(Debug, clap::Args)]
 pub struct BenchSeedArgs {
-    /// Seed of the random scenes and paths.
+    /// Seed of the benchmark's random draws (scenes, paths, poses, learners); same seed, same report (wall-clock times aside).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Print the report as JSON.
@@ -305,12 +291,8 @@ pub struct BenchIkArgs {
     /// Random reachable poses per arm.
     #[arg(long, default_value_t = 10_000)]
     pub poses: usize,
-    /// Seed of the random configurations.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -318,12 +300,8 @@ pub struct BenchCqlArgs {
     /// Number of generated scenes.
     #[arg(long, default_value_t = 100)]
     pub scenarios: usize,
-    /// Seed of the scene series and the learners.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Print the report as JSON.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub common: BenchSeedArgs,
 }
 
 /// A command's failure: exit code and the message for stderr.

@@ -4,6 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
+use afford_planner::timing::TrajectoryPoint;
 use serde::Serialize;
 
 use super::{ExitKind, Failure, OutputFormat};
@@ -74,35 +75,49 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
             "--format csv needs trajectories: use --until trajectory",
         ));
     };
-    let names = |prefix: char| (1..=dof).map(move |j| format!("{prefix}{j}"));
-    let header: Vec<String> = ["subgoal", "object", "arm", "time_from_start", "gripper"]
-        .into_iter()
-        .map(String::from)
-        .chain(names('q'))
-        .chain(names('v'))
-        .chain(names('a'))
-        .collect();
-    let mut out = header.join(",") + "\n";
+    let mut out = csv_header(
+        &["subgoal", "object", "arm", "time_from_start", "gripper"],
+        dof,
+    );
     for (k, s) in plan.subgoals.iter().enumerate() {
         let Some(t) = &s.trajectory else { continue };
         for p in &t.points {
             let gripper = t.gripper_state(p.time_from_start).name();
-            let values = p
-                .positions
-                .iter()
-                .chain(&p.velocities)
-                .chain(&p.accelerations);
-            let numbers: Vec<String> = values.map(|v| format!("{v}")).collect();
             let arm = s.arm.as_deref().unwrap_or("");
             out.push_str(&format!(
                 "{k},{},{arm},{},{gripper},{}\n",
                 s.object,
                 p.time_from_start,
-                numbers.join(",")
+                csv_numbers(p)
             ));
         }
     }
     Ok(out)
+}
+
+/// A CSV header line: the `leading` columns, then `q1…qn`, `v1…vn`,
+/// `a1…an` for `dof` joints.
+pub fn csv_header(leading: &[&str], dof: usize) -> String {
+    let names = |prefix: char| (1..=dof).map(move |j| format!("{prefix}{j}"));
+    let header: Vec<String> = leading
+        .iter()
+        .map(|s| s.to_string())
+        .chain(names('q'))
+        .chain(names('v'))
+        .chain(names('a'))
+        .collect();
+    header.join(",") + "\n"
+}
+
+/// A sample's positions, velocities and accelerations as CSV fields.
+pub fn csv_numbers(p: &TrajectoryPoint) -> String {
+    let values = p
+        .positions
+        .iter()
+        .chain(&p.velocities)
+        .chain(&p.accelerations);
+    let numbers: Vec<String> = values.map(|v| format!("{v}")).collect();
+    numbers.join(",")
 }
 
 #[cfg(test)]

@@ -2,20 +2,23 @@
 //! observation timeline with the valid-policy detector
 //! ([`afford_planner::monitor`]) and writes the executed timeline (one
 //! entry per sub-goal begun, in the shape of a plan, times from each
-//! sub-goal's `start_time`) and the event log. Every executed sub-goal is
-//! re-checked by the independent checker before anything is written.
-//! Exit 0 completed, 1 aborted (the reason on stderr) or the executed
-//! timeline failed the check, 2 bad input.
+//! sub-goal's `start_time`), the event log and the physical replay of the
+//! result ([`executed`]). Every executed sub-goal is re-checked by the
+//! independent checker before anything is written (a violation: nothing
+//! written, exit 1), then replayed physically (rapier3d): its report is
+//! the output's `physics` field and a line on stderr.
+//! Exit 0 completed with every replay passing; 1 aborted, or the executed
+//! timeline failed the check or the physical replay (each reason on
+//! stderr); 2 bad input.
 
-use afford_check::{check_plan, read_plan};
-use afford_kinematics::RobotModel;
 use afford_planner::monitor::{Event, ExecutedSubgoal, Monitor, Reason, Status, timeline};
-use afford_planner::scenario::{Scenario, bounds};
+use afford_planner::scenario::bounds;
 use afford_planner::timing::TimingSettings;
 use afford_planner::{JointState, PlanError, PlanOptions, plan};
 use serde::Serialize;
 
-use super::output::{emit, render};
+use super::executed::{self, RunReplay};
+use super::output::{csv_header, csv_numbers, emit, render};
 use super::plan::{base_dir, load, load_robot};
 use super::{ExitKind, Failure, OutputFormat, RunArgs};
 
@@ -33,6 +36,8 @@ struct RunOutput<'a> {
     /// The executed timeline, one entry per sub-goal begun.
     subgoals: &'a [ExecutedSubgoal],
     events: Vec<EventOut<'a>>,
+    /// The physical replay of every executed sub-goal that ended.
+    physics: &'a RunReplay,
 }
 
 /// An event, with the decision time only when `--timings` asks for it
@@ -78,7 +83,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let mut monitor = Monitor::new(planned, &scenario, &options)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     timeline::play(&mut monitor, &scenario.observations);
-    let violations = check_executed(&monitor, &robot)?;
+    let files =
+        executed::files(&monitor, &robot).map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?;
+    let violations = executed::check(&files, &robot);
     summary(&monitor);
     if !violations.is_empty() {
         return Err(Failure::new(
@@ -89,6 +96,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             ),
         ));
     }
+    let replayed = executed::replay(&files, &robot);
+    physics_summary(&replayed);
     let reason = match monitor.status() {
         Status::Aborted(reason) => Some(reason),
         _ => None,
@@ -113,6 +122,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
                 replan_ms: event.replan_ms.filter(|_| args.timings),
             })
             .collect(),
+        physics: &replayed,
     };
     let text = match args.format {
         OutputFormat::Csv => csv(&monitor),
@@ -128,81 +138,46 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         );
         emit(&picture, Some(svg))?;
     }
-    match reason {
-        Some(reason) => Err(Failure::new(
-            ExitKind::CouldNotPlan,
-            format!("aborted: {reason}"),
-        )),
-        None => Ok(()),
+    exit(reason, &replayed)
+}
+
+/// Exit 1 when the run was aborted or its physical replay failed (both
+/// reasons on stderr), else 0.
+fn exit(aborted: Option<&Reason>, replayed: &RunReplay) -> Result<(), Failure> {
+    let mut reasons: Vec<String> = aborted
+        .map(|r| format!("aborted: {r}"))
+        .into_iter()
+        .collect();
+    if !replayed.passed {
+        reasons.push(format!(
+            "the executed run fails the physical replay:\n  {}",
+            replayed.failures().join("\n  ")
+        ));
+    }
+    match reasons.is_empty() {
+        true => Ok(()),
+        false => Err(Failure::new(ExitKind::CouldNotPlan, reasons.join("\n"))),
     }
 }
 
-/// Each executed sub-goal through the independent check, against the scene
-/// believed when it ended with its object where it was taken from, from
-/// the robot's state when it began. Violations, one line each.
-fn check_executed(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<String>, Failure> {
-    let mut lines = Vec::new();
-    for (k, sub) in monitor.executed().iter().enumerate() {
-        let Some(scene) = &sub.scene else {
-            continue;
-        };
-        let start = whole_state(monitor, robot, k);
-        let scene = Scenario {
-            robot: afford_planner::scenario::RobotSpec {
-                start: None,
-                joints: Some(
-                    start
-                        .joint_names
-                        .iter()
-                        .cloned()
-                        .zip(start.positions.iter().copied())
-                        .collect(),
-                ),
-                ..scene.robot.clone()
-            },
-            observations: Vec::new(),
-            ..scene.clone()
-        };
-        #[derive(Serialize)]
-        struct One<'a> {
-            start_state: &'a JointState,
-            subgoals: [&'a ExecutedSubgoal; 1],
-        }
-        let text = serde_json::to_string(&One {
-            start_state: &start,
-            subgoals: [sub],
-        })
-        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
-        let file = read_plan(&text).map_err(|e| {
-            Failure::new(
-                ExitKind::CouldNotPlan,
-                format!("executed sub-goal {k}: {e}"),
-            )
-        })?;
-        let report = check_plan(&scene, robot, &file);
-        lines.extend(
-            report
-                .violations
-                .iter()
-                .map(|v| format!("executed sub-goal {k}: {v}")),
-        );
-    }
-    Ok(lines)
-}
-
-/// The whole robot's state when executed sub-goal `k` began: the start
-/// state with every earlier sub-goal's arm where it ended.
-fn whole_state(monitor: &Monitor, robot: &RobotModel, k: usize) -> JointState {
-    let mut state = monitor.start_state().cloned().unwrap_or(JointState {
-        joint_names: Vec::new(),
-        positions: Vec::new(),
-    });
-    for sub in &monitor.executed()[..k] {
-        if let (Ok(arm), Some(last)) = (robot.arm(&sub.arm), sub.trajectory.points.last()) {
-            arm.insert(&mut state.positions, &last.positions);
-        }
-    }
-    state
+/// One line on stderr: how many executed sub-goals the physical replay
+/// passed, where the targets came to rest, what else moved or was touched.
+fn physics_summary(replayed: &RunReplay) {
+    let reports = || replayed.subgoals.iter().filter_map(|s| s.report.as_ref());
+    let passed = replayed.subgoals.iter().filter(|s| s.passed).count();
+    let in_goal = reports()
+        .flat_map(|r| &r.targets)
+        .filter(|t| t.in_goal)
+        .count();
+    let moved = reports()
+        .flat_map(|r| &r.pieces)
+        .filter(|p| p.moved)
+        .count();
+    let contacts: usize = reports().map(|r| r.contacts.len()).sum();
+    eprintln!(
+        "  physical replay: {passed} of {} executed sub-goal(s) pass; {in_goal} piece(s) at rest in their goal, {moved} other piece(s) moved, {contacts} contact(s)",
+        replayed.subgoals.len()
+    );
 }
 
 /// A few lines on stderr: the outcome, then each event.
@@ -246,15 +221,10 @@ fn csv(monitor: &Monitor) -> String {
         .map(|s| s.joint_names.len())
         .max()
         .unwrap_or(0);
-    let names = |prefix: char| (1..=dof).map(move |j| format!("{prefix}{j}"));
-    let header: Vec<String> = ["time", "subgoal", "object", "arm", "gripper", "event"]
-        .into_iter()
-        .map(String::from)
-        .chain(names('q'))
-        .chain(names('v'))
-        .chain(names('a'))
-        .collect();
-    let mut out = header.join(",") + "\n";
+    let mut out = csv_header(
+        &["time", "subgoal", "object", "arm", "gripper", "event"],
+        dof,
+    );
     let mut events = monitor.events().iter().peekable();
     for (k, s) in monitor.executed().iter().enumerate() {
         for p in &s.trajectory.points {
@@ -263,22 +233,75 @@ fn csv(monitor: &Monitor) -> String {
             while let Some(e) = events.next_if(|e| e.time <= time + 1e-9) {
                 here.push(e.verdict);
             }
-            let numbers: Vec<String> = p
-                .positions
-                .iter()
-                .chain(&p.velocities)
-                .chain(&p.accelerations)
-                .map(|v| format!("{v}"))
-                .collect();
             out.push_str(&format!(
                 "{time},{k},{},{},{},{},{}\n",
                 s.object,
                 s.arm,
                 s.trajectory.gripper_state(p.time_from_start).name(),
                 here.join(" "),
-                numbers.join(",")
+                csv_numbers(p)
             ));
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use executed::SubgoalReplay;
+
+    fn replay(failures: &[&str]) -> RunReplay {
+        RunReplay {
+            passed: failures.is_empty(),
+            subgoals: vec![SubgoalReplay {
+                subgoal: 1,
+                object: "blue-square-2".into(),
+                passed: failures.is_empty(),
+                failures: failures.iter().map(|f| f.to_string()).collect(),
+                report: None,
+            }],
+        }
+    }
+
+    /// A completed run whose physical replay fails exits 1 with the finding
+    /// and the sub-goal it happened in; one that passes exits 0.
+    #[test]
+    fn run_exit_is_1_when_the_physical_replay_of_the_executed_run_fails() {
+        assert!(exit(None, &replay(&[])).is_ok());
+        let failed = exit(None, &replay(&["red-square-1 moved 7.0 mm"])).unwrap_err();
+        assert_eq!(failed.code, ExitKind::CouldNotPlan);
+        assert!(
+            failed.message.contains("fails the physical replay")
+                && failed
+                    .message
+                    .contains("sub-goal 1 (blue-square-2): red-square-1 moved 7.0 mm"),
+            "{}",
+            failed.message
+        );
+    }
+
+    /// An aborted run whose replay also fails gives both reasons.
+    #[test]
+    fn run_exit_names_the_abort_and_the_replay_failure_together() {
+        let reason = Reason::NoPlan {
+            message: "no way round".into(),
+        };
+        let failed = exit(
+            Some(&reason),
+            &replay(&["blue-square-2 comes to rest outside"]),
+        )
+        .unwrap_err();
+        assert_eq!(failed.code, ExitKind::CouldNotPlan);
+        assert!(
+            failed.message.starts_with("aborted: "),
+            "{}",
+            failed.message
+        );
+        assert!(
+            failed.message.contains("physical replay"),
+            "{}",
+            failed.message
+        );
+    }
 }

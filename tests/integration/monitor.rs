@@ -6,7 +6,9 @@
 
 use serde_json::Value;
 
-use crate::util::{afford, scratch_dir};
+use afford::planner::scenario;
+
+use crate::util::{afford, repo, scratch_dir};
 
 /// The verdicts of the event log, in order, and the outcome.
 fn run(example: &str) -> (Vec<String>, Value) {
@@ -46,6 +48,32 @@ fn completed(json: &Value, subgoals: usize) {
             .map(|e| e["command"].as_str().expect("command"))
             .collect();
         assert_eq!(events, ["close", "open"], "one grasp per executed sub-goal");
+    }
+    replayed(json, subgoals);
+}
+
+/// The output's physical replay passed: one replay per executed sub-goal,
+/// in order, its piece at rest inside its goal, no other piece moved, no
+/// contact.
+fn replayed(json: &Value, subgoals: usize) {
+    let physics = &json["physics"];
+    assert_eq!(physics["passed"], true, "{physics:#}");
+    let replays = physics["subgoals"].as_array().expect("physics.subgoals");
+    assert_eq!(replays.len(), subgoals, "{physics:#}");
+    for (k, r) in replays.iter().enumerate() {
+        let executed = &json["subgoals"][k];
+        assert_eq!(r["subgoal"], k);
+        assert_eq!(r["object"], executed["object"]);
+        assert_eq!(r["failures"].as_array().map(Vec::len), Some(0), "{r:#}");
+        let report = &r["report"];
+        assert!(report["steps"].as_u64().is_some_and(|n| n > 0), "{r:#}");
+        let target = &report["targets"][0];
+        assert_eq!(target["piece"], executed["object"]);
+        assert_eq!(target["goal"], executed["goal"]);
+        assert_eq!(target["in_goal"], true, "{r:#}");
+        let pieces = report["pieces"].as_array().expect("pieces");
+        assert!(pieces.iter().all(|p| p["moved"] == false), "{r:#}");
+        assert_eq!(report["contacts"].as_array().map(Vec::len), Some(0));
     }
 }
 
@@ -117,6 +145,15 @@ fn monitor_pieces_added_become_new_work_both_robots() {
             !objects.contains(&"red-square-1"),
             "the red piece is not asked for"
         );
+        // The pieces that came during the first carry are in its physical
+        // replay from when they came, and nothing pushed them.
+        let first = &json["physics"]["subgoals"][0]["report"]["pieces"];
+        let names: Vec<&str> = (first.as_array().expect("pieces").iter())
+            .map(|p| p["piece"].as_str().expect("name"))
+            .collect();
+        for came in ["blue-square-3", "blue-square-4", "red-square-1"] {
+            assert!(names.contains(&came), "{robot}: {names:?}");
+        }
     }
 }
 
@@ -146,6 +183,14 @@ fn monitor_piece_moved_away_changes_nothing_both_robots() {
         assert_eq!(verdicts, ["continue"], "{robot}");
         assert_eq!(json["events"][0]["changes"][0], "object red-square-1 moved");
         completed(&json, 1);
+        // The replay has the red square at both places, each for its time.
+        let pieces = &json["physics"]["subgoals"][0]["report"]["pieces"];
+        let names: Vec<&str> = (pieces.as_array().expect("pieces").iter())
+            .map(|p| p["piece"].as_str().expect("name"))
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        assert!(names[0].starts_with("red-square-1 (until "), "{names:?}");
+        assert_eq!(names[1], "red-square-1");
         // Nothing happened: the executed timeline is the plan's own.
         let planned = afford(&[
             "plan",
@@ -219,4 +264,55 @@ fn monitor_run_csv_has_one_row_per_executed_sample_with_events() {
         .filter(|e| !e.is_empty())
         .collect();
     assert_eq!(events, ["wait", "continue"]);
+}
+
+/// `afford run` replays its result physically (both robots): the goal moved
+/// while the robot held the piece, and the replay finds the piece at rest
+/// inside the moved box — the box as seen at the end of the sub-goal, not
+/// where it was planned — and says so on stderr; exit 0.
+#[test]
+fn monitor_run_replays_its_result_physically_the_piece_rests_in_the_moved_goal_both_robots() {
+    for robot in ["", "cob4-"] {
+        let path = format!("examples/monitor/{robot}goal-moved-while-holding.yaml");
+        let result = afford(&["run", &path]);
+        result.assert_code(0).assert_no_panic();
+        assert!(
+            result
+                .stderr
+                .contains("physical replay: 1 of 1 executed sub-goal(s) pass"),
+            "{}",
+            result.stderr
+        );
+        let json = result.json();
+        replayed(&json, 1);
+        let s = scenario::load(&repo().join(&path)).expect("example");
+        let moved = s.observations[0].goals.as_ref().expect("goals")[0].bbox;
+        let corners = [[moved.u, moved.v], [moved.u + moved.w, moved.v + moved.l]]
+            .map(|p| s.pixel_to_base(p));
+        let centre = &json["physics"]["subgoals"][0]["report"]["targets"][0]["centre"];
+        for axis in 0..2 {
+            let c = centre[axis].as_f64().expect("centre");
+            let (a, b) = (corners[0][axis], corners[1][axis]);
+            assert!(
+                c > a.min(b) && c < a.max(b),
+                "{robot}: {centre} outside {corners:?}"
+            );
+        }
+    }
+}
+
+/// `afford bench monitor` runs every perturbed execution to its end,
+/// re-checks it and replays it physically: `physics_runs` counts them all;
+/// on these scenes none fails either.
+#[test]
+fn monitor_bench_replays_every_perturbed_execution_physically() {
+    let result = afford(&["bench", "monitor", "--scenes", "2", "--json"]);
+    result.assert_code(0).assert_no_panic();
+    let json = result.json();
+    let count = |key: &str| json[key].as_u64().expect(key);
+    let perturbations = count("relevant") + count("irrelevant");
+    assert!(perturbations > 0, "{json:#}");
+    assert_eq!(count("physics_runs"), perturbations, "{json:#}");
+    assert_eq!(count("physics_failures"), 0, "{json:#}");
+    assert_eq!(count("check_failures"), 0, "{json:#}");
 }

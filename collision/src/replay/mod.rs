@@ -46,13 +46,13 @@ pub use report::{
     TargetOutcome,
 };
 pub use scene::{
-    MAX_BODIES, PIECE_DENSITY, PIECE_FRICTION, PIECE_MASS_RANGE, PhysicsPiece, PhysicsScene,
-    PieceShape, SURFACE_FRICTION,
+    MAX_BODIES, Moment, PIECE_DENSITY, PIECE_FRICTION, PIECE_MASS_RANGE, PhysicsPiece,
+    PhysicsScene, PieceShape, Presence, SURFACE_FRICTION,
 };
 pub use world::GRAVITY;
 
 use motion::Checked;
-use world::{Role, Tag, World};
+use world::{Role, Switched, Tag, World};
 
 /// Physics step, s: 2 ms keeps a link at 1 m/s within 2 mm per step, well
 /// under the smallest piece (5 mm), and a sub-goal of 10 s at 5,000 steps.
@@ -143,6 +143,9 @@ struct Replay<'a> {
     /// Index into `contacts` per (motion, robot body or held piece, collider tag).
     seen: HashMap<(usize, String, usize), usize>,
     steps: usize,
+    /// Each body that is there only part of the time, its interval and
+    /// whether it is there now.
+    presence: Vec<(Switched, Presence, bool)>,
 }
 
 /// Where the grasp of the current motion stands.
@@ -205,6 +208,16 @@ impl<'a> Replay<'a> {
             })
             .collect::<Result<Vec<_>, CollisionError>>()?;
         let world = World::new(scene, &geometry, &q, settings.step)?;
+        let presence = scene
+            .presence
+            .iter()
+            .map(|p| {
+                let body = world
+                    .switched(scene, &p.body)
+                    .ok_or_else(|| path_err("presence", format!("no box or piece '{}'", p.body)))?;
+                Ok((body, p.clone(), true))
+            })
+            .collect::<Result<Vec<_>, CollisionError>>()?;
         let first: Vec<Pose> = world
             .pieces
             .iter()
@@ -222,6 +235,7 @@ impl<'a> Replay<'a> {
             contacts: Vec::new(),
             seen: HashMap::new(),
             steps: 0,
+            presence,
         })
     }
 
@@ -311,6 +325,13 @@ impl<'a> Replay<'a> {
 
     /// One physics step ending at time `t` of motion `k`; then the bookkeeping.
     fn step(&mut self, k: usize, t: f64, held: Option<usize>) {
+        for (body, presence, there) in &mut self.presence {
+            let now = presence.at((k, t));
+            if now != *there {
+                self.world.set_present(body, now);
+                *there = now;
+            }
+        }
         self.world.step();
         self.steps += 1;
         for (i, &h) in self.world.pieces.iter().enumerate() {

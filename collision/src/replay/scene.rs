@@ -96,6 +96,64 @@ impl PhysicsPiece {
     }
 }
 
+/// A box or piece of a replay's scene: named, and renamed when it is there
+/// only for a while.
+trait Body: Clone + PartialEq {
+    fn name(&self) -> &str;
+    fn renamed(&self, name: String) -> Self;
+}
+
+/// Both kinds of body keep their name in a `name` field.
+macro_rules! named_body {
+    ($($t:ty),*) => {$(
+        impl Body for $t {
+            fn name(&self) -> &str {
+                &self.name
+            }
+            fn renamed(&self, name: String) -> Self {
+                Self { name, ..self.clone() }
+            }
+        }
+    )*};
+}
+
+named_body!(SceneBox, PhysicsPiece);
+
+/// The bodies of one list (`list` picks it from a scene) over the scenes:
+/// each once per stretch of scenes it stays the same in, its interval
+/// added to `presence` unless it is there throughout
+/// ([`PhysicsScene::over_time`]).
+fn bodies_over_time<T: Body>(
+    scenes: &[(f64, PhysicsScene)],
+    list: impl Fn(&PhysicsScene) -> &[T],
+    presence: &mut Vec<Presence>,
+) -> Vec<T> {
+    let moment = |i: usize| (i > 0 && i < scenes.len()).then(|| (0, scenes[i].0));
+    let mut out = Vec::new();
+    for (i, (_, scene)) in scenes.iter().enumerate() {
+        for b in list(scene) {
+            if i > 0 && list(&scenes[i - 1].1).contains(b) {
+                continue;
+            }
+            let stays = scenes[i..].iter().take_while(|(_, s)| list(s).contains(b));
+            let until = moment(i + stays.count());
+            let name = match until {
+                Some((_, t)) => format!("{} (until {t:.3} s)", b.name()),
+                None => b.name().to_string(),
+            };
+            if i > 0 || until.is_some() {
+                presence.push(Presence {
+                    body: name.clone(),
+                    from: moment(i),
+                    until,
+                });
+            }
+            out.push(b.renamed(name));
+        }
+    }
+    out
+}
+
 /// The scene of a replay.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -116,9 +174,60 @@ pub struct PhysicsScene {
     /// `None`: the robot's home.
     #[serde(default)]
     pub robot_start: Option<Vec<f64>>,
+    /// Boxes and pieces that are there only part of the time (a hand that
+    /// comes and goes, a box a person moves: its two places are two
+    /// bodies); every other body is there throughout.
+    #[serde(default)]
+    pub presence: Vec<Presence>,
+}
+
+/// A moment of a replay: motion index and time on that motion's clock, s.
+pub type Moment = (usize, f64);
+
+/// When one box or piece is in the world: from `from` (`None`: the start)
+/// until `until` (`None`: the end), a half-open interval. Absent, it
+/// neither collides nor moves.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Presence {
+    /// The box's or the piece's name.
+    pub body: String,
+    #[serde(default)]
+    pub from: Option<Moment>,
+    #[serde(default)]
+    pub until: Option<Moment>,
+}
+
+impl Presence {
+    /// True when the body is there at moment `at`.
+    pub fn at(&self, at: Moment) -> bool {
+        let before = |a: Moment, b: Moment| a.0 < b.0 || (a.0 == b.0 && a.1 < b.1);
+        self.from.is_none_or(|f| !before(at, f)) && self.until.is_none_or(|u| before(at, u))
+    }
 }
 
 impl PhysicsScene {
+    /// One scene from the scenes of one motion over time (`(t, scene)`,
+    /// `t` on motion 0's clock, increasing, the first at the start): the
+    /// table and the robot start from the first; each box or piece present
+    /// while it stays unchanged (same name, kind, place and size), in the
+    /// order they first appear. A body there at the end keeps its name; an
+    /// earlier one is named `NAME (until T s)`.
+    pub fn over_time(scenes: &[(f64, PhysicsScene)]) -> Result<Self, CollisionError> {
+        let Some((_, first)) = scenes.first() else {
+            return Err(scene_err("scenes", "no scene"));
+        };
+        let mut presence = Vec::new();
+        let boxes = bodies_over_time(scenes, |s| &s.boxes, &mut presence);
+        let pieces = bodies_over_time(scenes, |s| &s.pieces, &mut presence);
+        Ok(Self {
+            boxes,
+            pieces,
+            presence,
+            ..first.clone()
+        })
+    }
+
     /// Index of a piece by name.
     pub fn piece_index(&self, name: &str) -> Option<usize> {
         self.pieces.iter().position(|p| p.name == name)
@@ -166,6 +275,17 @@ impl PhysicsScene {
             }
             if !(p.friction.is_finite() && (0.0..=2.0).contains(&p.friction)) {
                 return Err(scene_err(field("friction"), "must be in [0, 2]"));
+            }
+        }
+        for (i, p) in self.presence.iter().enumerate() {
+            let field = |f: &str| format!("presence[{i}] ({}).{f}", p.body);
+            let known = self.pieces.iter().any(|q| q.name == p.body)
+                || self.boxes.iter().any(|b| b.name == p.body);
+            if !known || self.presence[..i].iter().any(|q| q.body == p.body) {
+                return Err(scene_err(field("body"), "must name a box or piece, once"));
+            }
+            if [p.from, p.until].iter().flatten().any(|m| !m.1.is_finite()) {
+                return Err(scene_err(field("from"), "times must be finite"));
             }
         }
         Ok(())

@@ -71,6 +71,15 @@ pub(crate) struct World {
     pub links: Vec<Option<RigidBodyHandle>>,
     pub pieces: Vec<RigidBodyHandle>,
     piece_colliders: Vec<ColliderHandle>,
+    /// Each fixed collider with its box's name.
+    fixed_colliders: Vec<(String, ColliderHandle)>,
+}
+
+/// What a presence switches on and off: a piece, or a fixed box's colliders.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Switched {
+    Piece(usize),
+    Fixed(Vec<ColliderHandle>),
 }
 
 impl World {
@@ -93,6 +102,7 @@ impl World {
             links: vec![None; robot.model.links().len()],
             pieces: Vec::new(),
             piece_colliders: Vec::new(),
+            fixed_colliders: Vec::new(),
         };
         world.add_fixed(scene)?;
         world.add_pieces(scene);
@@ -126,11 +136,40 @@ impl World {
                 kind,
             });
             let b = &mut self.physics.bodies;
-            self.physics
+            let handle = self
+                .physics
                 .colliders
                 .insert_with_parent(collider, ground, b);
+            self.fixed_colliders.push((obstacle.name.clone(), handle));
         }
         Ok(())
+    }
+
+    /// What switches body `name` of `scene` (`None`: no such body).
+    pub(crate) fn switched(&self, scene: &PhysicsScene, name: &str) -> Option<Switched> {
+        if let Some(i) = scene.piece_index(name) {
+            return Some(Switched::Piece(i));
+        }
+        let colliders: Vec<ColliderHandle> = (self.fixed_colliders.iter())
+            .filter(|(n, _)| n == name)
+            .map(|(_, c)| *c)
+            .collect();
+        (!colliders.is_empty()).then_some(Switched::Fixed(colliders))
+    }
+
+    /// Puts a body in the world or takes it out: absent, it neither
+    /// collides nor moves.
+    pub(crate) fn set_present(&mut self, body: &Switched, present: bool) {
+        let colliders = match body {
+            Switched::Piece(i) => {
+                self.physics.bodies[self.pieces[*i]].set_enabled(present);
+                std::slice::from_ref(&self.piece_colliders[*i])
+            }
+            Switched::Fixed(colliders) => colliders.as_slice(),
+        };
+        for c in colliders {
+            self.physics.colliders[*c].set_enabled(present);
+        }
     }
 
     fn add_pieces(&mut self, scene: &PhysicsScene) {

@@ -7,8 +7,8 @@
 //!
 //! | kind | relevant | built as |
 //! |---|---|---|
-//! | `goal_moved` | yes | the box shifted by its width (or length) plus 10 px, so the planned release footprint lies outside it |
-//! | `hand_on_route` | yes | a hand on a cell the policy still visits, three or more cells ahead, a cell clear of the other pieces' perimeters |
+//! | `goal_moved` | yes | the box shifted by its width (or length) plus 10 px, so the planned release footprint lies outside it, [`REACH_M`] from every tool position so far |
+//! | `hand_on_route` | yes | a hand on a cell the policy still visits, three or more cells ahead, a cell clear of the other pieces' perimeters and of the goal boxes |
 //! | `blocker_on_route` | yes | a new object on such a cell |
 //! | `new_piece` | yes | a new blue square (the instruction says "all") |
 //! | `piece_moved_away` | no | the red square moved where its box, grown by its margin and one cell, misses every cell still visited and lies [`REACH_M`] + margin from every remaining tool position |
@@ -18,6 +18,12 @@
 //! `Continue` or `Slow`; an irrelevant one is a false trigger when it is
 //! anything but `Continue`. Times: the decision (wall clock, the replan
 //! left out) and the replan of each `Replan`.
+//!
+//! Re-check (when the caller gives one, [`Recheck`]): every perturbed
+//! execution then runs on to its end — a hand is withdrawn a second after
+//! it came, so a wait resumes — and its executed timeline goes through the
+//! independent check and the physical replay; `check_failures` and
+//! `physics_failures` count the executions each flags.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -27,13 +33,16 @@ use super::median;
 use crate::monitor::route::REACH_M;
 use crate::monitor::separation::TOLERANCE;
 use crate::monitor::track::Track;
-use crate::monitor::{Monitor, Verdict};
+use crate::monitor::{Monitor, Verdict, timeline};
 use crate::plan::{Plan, PlanOptions, Planner, SubgoalPlan};
 use crate::scenario::{
     Camera, FORMAT_VERSION, Goal, Hand, Object, Observation, PixelBox, RobotSpec, Safety, Scenario,
 };
 use crate::timing::separation::nearest_hand_distance;
 use crate::timing::trajectory::hands;
+
+/// The robot of every scene.
+pub const ROBOT: &str = "kuka_iiwa14";
 
 /// What to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,9 +70,19 @@ pub struct MonitorBenchReport {
     pub false_triggers: usize,
     pub median_observe_us: f64,
     pub median_replan_ms: f64,
-    /// Executed runs the physical replay flags; `null`: no replay run (the
-    /// replay is not part of this build).
+    /// Perturbed executions run to their end and re-checked; `null`: no
+    /// re-check given.
+    pub physics_runs: Option<usize>,
+    /// Of those, the executions the independent check flags.
+    pub check_failures: Option<usize>,
+    /// Each execution the check flags (scene, kind, moment), its violations.
+    pub check_findings: Vec<String>,
+    /// Of those, the executions the physical replay flags; `null`: no
+    /// replay given.
     pub physics_failures: Option<usize>,
+    /// Each flagged execution (scene, kind, moment) with the replay's
+    /// findings.
+    pub physics_findings: Vec<String>,
     /// Perturbations per kind: `[count, triggered]`.
     pub kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
 }
@@ -72,10 +91,31 @@ pub struct MonitorBenchReport {
 /// the gripper's open command.
 const MOMENTS: [f64; 4] = [0.2, 0.45, 0.7, 0.9];
 
-/// Runs the benchmark; `progress(done)` after each scene.
-pub fn run(config: &MonitorBenchConfig, mut progress: impl FnMut(usize)) -> MonitorBenchReport {
+/// Re-checks an executed run ([`Monitor::executed`]): the independent
+/// check's violations and the physical replay's findings, one sentence
+/// each. The caller gives it (the facade passes afford-check's; the
+/// planner does not depend on its checker).
+pub type Recheck<'a> = &'a dyn Fn(&Monitor) -> Rechecked;
+
+/// What [`Recheck`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Rechecked {
+    pub violations: Vec<String>,
+    pub physics: Vec<String>,
+}
+
+/// Runs the benchmark; `progress(done)` after each scene; `physics`
+/// re-checks each perturbed execution run to its end.
+pub fn run(
+    config: &MonitorBenchConfig,
+    mut progress: impl FnMut(usize),
+    physics: Option<Recheck>,
+) -> MonitorBenchReport {
     let options = PlanOptions::default();
-    let mut tally = Tally::default();
+    let mut tally = Tally {
+        physics,
+        ..Tally::default()
+    };
     for k in 0..config.scenes {
         let mut rng =
             ChaCha8Rng::seed_from_u64(config.seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
@@ -93,7 +133,13 @@ pub fn run(config: &MonitorBenchConfig, mut progress: impl FnMut(usize)) -> Moni
 }
 
 #[derive(Default)]
-struct Tally {
+struct Tally<'a> {
+    physics: Option<Recheck<'a>>,
+    physics_runs: usize,
+    check_failures: usize,
+    check_findings: Vec<String>,
+    physics_failures: usize,
+    physics_findings: Vec<String>,
     relevant: usize,
     detected: usize,
     irrelevant: usize,
@@ -103,7 +149,42 @@ struct Tally {
     kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
 }
 
-impl Tally {
+impl Tally<'_> {
+    /// Runs `monitor` on to its end (the hands withdrawn a second after
+    /// `t`) and re-checks it, when a re-check was given; `run` names the
+    /// execution.
+    fn recheck(&mut self, mut monitor: Monitor, t: f64, run: impl FnOnce() -> String) {
+        let Some(physics) = self.physics else {
+            return;
+        };
+        let withdrawn = Observation {
+            at: Some(t + 1.0),
+            hands: Some(Vec::new()),
+            ..Default::default()
+        };
+        timeline::play(&mut monitor, &[withdrawn]);
+        self.physics_runs += 1;
+        let found = physics(&monitor);
+        let run = run();
+        for (findings, count, list) in [
+            (
+                found.violations,
+                &mut self.check_failures,
+                &mut self.check_findings,
+            ),
+            (
+                found.physics,
+                &mut self.physics_failures,
+                &mut self.physics_findings,
+            ),
+        ] {
+            if !findings.is_empty() {
+                *count += 1;
+                list.push(format!("{run}: {}", findings.join("; ")));
+            }
+        }
+    }
+
     fn report(self) -> MonitorBenchReport {
         MonitorBenchReport {
             relevant: self.relevant,
@@ -112,7 +193,11 @@ impl Tally {
             false_triggers: self.false_triggers,
             median_observe_us: median(&self.observe_us),
             median_replan_ms: median(&self.replan_ms),
-            physics_failures: None,
+            physics_runs: self.physics.map(|_| self.physics_runs),
+            check_failures: self.physics.map(|_| self.check_failures),
+            check_findings: self.check_findings,
+            physics_failures: self.physics.map(|_| self.physics_failures),
+            physics_findings: self.physics_findings,
             kinds: self.kinds,
         }
     }
@@ -154,7 +239,7 @@ fn scene(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
             table_z: -0.2,
         },
         robot: RobotSpec {
-            model: "kuka_iiwa14".into(),
+            model: ROBOT.into(),
             start: Some([320.0, 330.0]),
             joints: None,
         },
@@ -189,11 +274,11 @@ fn perturb(
     options: &PlanOptions,
     moment: f64,
     rng: &mut ChaCha8Rng,
-    tally: &mut Tally,
+    tally: &mut Tally<'_>,
 ) {
     let sub = &plan.subgoals[0];
     let motion = sub.trajectory.as_ref().expect("timed");
-    let robot = afford_kinematics::RobotModel::builtin("kuka_iiwa14").expect("built-in robot");
+    let robot = afford_kinematics::RobotModel::builtin(ROBOT).expect("built-in robot");
     let arm = robot
         .arm(sub.arm.as_deref().unwrap_or_default())
         .expect("planned arm");
@@ -203,7 +288,11 @@ fn perturb(
     let sample = Track::sample_at(motion, t);
     let ahead = Ahead::new(scene, sub, &track, sample);
     let mut cases: Vec<(&'static str, bool, Observation)> = Vec::new();
-    if let Some(goals) = goal_moved(scene, sub) {
+    let past: Vec<[f64; 2]> = track.tool[..=sample]
+        .iter()
+        .map(|p| scene.base_to_pixel([p[0], p[1]]))
+        .collect();
+    if let Some(goals) = goal_moved(scene, sub, &past) {
         cases.push((
             "goal_moved",
             true,
@@ -329,12 +418,23 @@ fn perturb(
                 tally.false_triggers += usize::from(triggered);
             }
         }
+        tally.recheck(monitor, t, || {
+            format!(
+                "{}, {kind} at {:.0} % of the way to the open",
+                scene.name.as_deref().unwrap_or_default(),
+                moment * 100.0
+            )
+        });
     }
 }
 
-/// The goal shifted so the planned release footprint is outside it.
-fn goal_moved(scene: &Scenario, sub: &SubgoalPlan) -> Option<Vec<Goal>> {
+/// The goal shifted so the planned release footprint is outside it, and
+/// [`REACH_M`] from every tool position so far (`past`, pixels): a person
+/// does not put a box through the arm, nor where it already went (the
+/// executed sub-goal is checked against the goal where it ends).
+fn goal_moved(scene: &Scenario, sub: &SubgoalPlan, past: &[[f64; 2]]) -> Option<Vec<Goal>> {
     let g = scene.goals[0].bbox;
+    let [mu, mv] = scene.metres_per_pixel();
     let footprint = scene.objects[0].bbox.centred_at(sub.release_px);
     let shifts = [
         (g.w + 10.0, 0.0),
@@ -350,7 +450,9 @@ fn goal_moved(scene: &Scenario, sub: &SubgoalPlan) -> Option<Vec<Goal>> {
         };
         let inside = b.u >= 0.0 && b.v >= 0.0 && b.u + b.w <= 640.0 && b.v + b.l <= 480.0;
         let clear = scene.objects.iter().all(|o| apart(&o.bbox, &b, 5.0));
-        (inside && clear && apart(&footprint, &b, 0.0)).then(|| {
+        let reach = b.grown(REACH_M / mu, REACH_M / mv);
+        let away = past.iter().all(|p| !reach.contains(*p));
+        (inside && clear && away && apart(&footprint, &b, 0.0)).then(|| {
             vec![Goal {
                 bbox: b,
                 ..scene.goals[0].clone()
@@ -418,7 +520,8 @@ impl Ahead {
     /// may leave over, [`crate::grid`]), before the goal: the first such.
     /// Its painted region also stays a cell clear of the other pieces'
     /// (an obstacle region joined to one under the gripper is left over
-    /// too).
+    /// too), and the cell clear of the goal boxes (a blocker cannot stand
+    /// in a box's wall).
     fn route_cell(&self, scene: &Scenario) -> Option<PixelBox> {
         let here = self.here;
         let n = self.cells.len();
@@ -428,6 +531,7 @@ impl Ahead {
             let (du, dv) = ((c.u - here.u) / c.w, (c.v - here.v) / c.l);
             let painted = c.grown(m / mu + c.w, m / mv + c.l);
             du.abs().max(dv.abs()) >= 2.5
+                && scene.goals.iter().all(|g| apart(&g.bbox, c, 0.0))
                 && scene
                     .objects
                     .iter()

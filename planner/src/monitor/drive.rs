@@ -82,6 +82,7 @@ impl Monitor {
             },
             scene: None,
             scene_at_start: Some(self.scene.clone()),
+            changes: Vec::new(),
         });
     }
 

@@ -74,6 +74,11 @@ pub struct ExecutedSubgoal {
     /// The scene believed when the sub-goal began (not serialised).
     #[serde(skip)]
     pub scene_at_start: Option<Scenario>,
+    /// The scene believed after each change while the sub-goal ran, with
+    /// its time from `start_time`, s (not serialised): what the physical
+    /// replay of the sub-goal puts in the world when.
+    #[serde(skip)]
+    pub changes: Vec<(f64, Scenario)>,
 }
 
 /// How the execution stands.
@@ -282,6 +287,9 @@ impl Monitor {
         );
         let changes = belief::changes(&self.scene, &next);
         if !changes.is_empty() {
+            if let Some(e) = self.executed.last_mut() {
+                e.changes.push((self.clock - e.start_time, next.clone()));
+            }
             self.scene = next;
             self.trigger = None;
             self.changes.extend(changes.iter().cloned());
