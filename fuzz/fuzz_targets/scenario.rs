@@ -28,7 +28,7 @@ fuzz_target!(|data: &[u8]| {
             let request = afford_planner::grid::GridRequest {
                 object: s.object_index(&g.object).unwrap(),
                 goal: s.goal_index(&g.goal).unwrap(),
-                gripper: s.robot.start,
+                gripper: s.robot.start.unwrap_or_default(),
             };
             let grid = afford_planner::StateGrid::build(&s, request);
             assert!(grid.len() <= bounds::MAX_GRID_CELLS);
