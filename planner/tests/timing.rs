@@ -36,6 +36,7 @@ fn single_joint(distance: f64, v: f64, a: f64) -> f64 {
         upper: vec![10.0; 1],
         velocity: vec![v],
         acceleration: vec![a],
+        jerk: Vec::new(),
     };
     let timing = time_parameterize(
         &[vec![0.0], vec![distance]],
@@ -189,6 +190,7 @@ fn planar_case() -> (Vec<Vec<f64>>, JointLimits, Proximity) {
         upper: vec![10.0; 2],
         velocity: vec![1.5, 1.5],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let proximity = Proximity {
         tool_positions,
@@ -258,6 +260,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0, 1.0],
+        jerk: Vec::new(),
     };
     let path = vec![vec![0.0, 0.0], vec![1.0, 1.0]];
     let settings = TimingSettings::default();
@@ -285,6 +288,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 0.0],
         acceleration: vec![1.0, 1.0],
+        jerk: Vec::new(),
     };
     assert!(matches!(
         run(&path, &zero, &settings),
@@ -295,6 +299,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0],
+        jerk: Vec::new(),
     };
     assert!(matches!(
         run(&path, &short, &settings),
@@ -358,6 +363,7 @@ fn repeated_waypoints_merge_and_a_single_configuration_is_at_rest() {
         upper: vec![10.0; 1],
         velocity: vec![1.0],
         acceleration: vec![1.0],
+        jerk: Vec::new(),
     };
     let still = time_parameterize(
         &[vec![0.3], vec![0.3]],
@@ -593,6 +599,7 @@ fn joint_at_its_limit_at_a_corner_stays_inside() {
         upper: vec![1.0, 1.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
     let trajectory = solved(&timing);
@@ -620,6 +627,7 @@ fn tool_leaves_planned_path_on_long_first_segment() {
         upper: vec![2.0, 2.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let fk = |q: &[f64]| [q[0], q[1], 0.0];
     let settings = TimingSettings::default();
@@ -661,6 +669,7 @@ fn tool_path_tolerance_is_checked_on_every_sample() {
         upper: vec![2.0, 2.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     // The tool moves 1000× the joints: a blend sized for the tolerance in
     // the linear estimate is checked, and passes.
@@ -719,6 +728,7 @@ fn continuous_joint_has_no_position_limit() {
         upper: vec![f64::INFINITY, 1.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let path = vec![vec![7.0, 0.0], vec![7.5, 0.5], vec![8.0, 0.5]];
     let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
@@ -934,17 +944,20 @@ fn measure_example_subgoals() {
     }
     for f in afford_planner::timing::examples::measure_examples(&options) {
         println!(
-            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4}  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({})",
+            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s)  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",
             f.example,
             f.subgoal,
             f.duration_s,
             f.reference_s,
             f.ratio_to_optimal,
+            f.ratio_without_jerk,
+            f.jerk_cost_s,
             f.timing_ms,
             f.max_velocity_reversals,
             f.reversal_joint,
             f.peak_jerk,
-            f.jerk_joint
+            f.jerk_joint,
+            f.jerk_ratio
         );
     }
 }

@@ -26,6 +26,7 @@ pub fn iiwa_limits() -> JointLimits {
         upper: vec![f64::INFINITY; 7],
         velocity: IIWA_VELOCITY.to_vec(),
         acceleration: IIWA_ACCELERATION.to_vec(),
+        jerk: Vec::new(),
     }
 }
 
