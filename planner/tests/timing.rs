@@ -942,6 +942,9 @@ fn measure_example_subgoals() {
     if let Ok(rounds) = std::env::var("AFFORD_REFINE_ROUNDS") {
         options.timing.refine_rounds = rounds.parse().unwrap();
     }
+    if let Ok(budget) = std::env::var("AFFORD_TAUT_BUDGET_M") {
+        options.timing.taut_tool_budget_m = budget.parse().unwrap();
+    }
     for f in afford_planner::timing::examples::measure_examples(&options) {
         println!(
             "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s)  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",

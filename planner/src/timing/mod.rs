@@ -84,6 +84,7 @@ pub mod jerk;
 pub mod sample;
 pub mod separation;
 pub mod spline;
+pub mod taut;
 pub mod topp;
 pub mod trajectory;
 

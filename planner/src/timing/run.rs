@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::deviation::{ToolFk, ToolPathCheck, narrow_radii};
 use super::grid::{self, PathGrid};
 use super::jerk;
+use super::taut;
 use super::sample::{self, JointTrajectory, LimitKind, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
@@ -65,6 +66,12 @@ pub struct TimingSettings {
     /// Refinement stops once a round gains less than this fraction of the
     /// duration, 1e-3.
     pub refine_tolerance: f64,
+    /// Tool budget, metres, for pulling the joints taut ([`taut`](super::taut)),
+    /// 0.0015: each smoothed waypoint's tool within this of the planned tool
+    /// path (the corner blends add up to half of `max_tool_deviation_m`).
+    /// 0 keeps the waypoints as they are. Used when the arm's forward
+    /// kinematics is given.
+    pub taut_tool_budget_m: f64,
     /// Controller sampling rate, Hz, 100.
     pub rate_hz: f64,
     /// Global speed scale `k ∈ (0, 1]`, 1: velocity limits × k, acceleration × k².
@@ -101,6 +108,7 @@ impl Default for TimingSettings {
             path_points: 300,
             refine_rounds: 0,
             refine_tolerance: 1e-3,
+            taut_tool_budget_m: 0.0015,
             rate_hz: 100.0,
             speed_scale: 1.0,
             smoothing_weight: 0.0,
@@ -118,7 +126,13 @@ impl Default for TimingSettings {
 impl TimingSettings {
     /// Checks every field is finite and in range.
     pub fn validate(&self) -> Result<(), TimingError> {
-        let checks: [(&'static str, f64, bool, &'static str); 9] = [
+        let checks: [(&'static str, f64, bool, &'static str); 10] = [
+            (
+                "taut_tool_budget_m",
+                self.taut_tool_budget_m,
+                self.taut_tool_budget_m >= 0.0,
+                "≥ 0",
+            ),
             (
                 "refine_tolerance",
                 self.refine_tolerance,
@@ -409,18 +423,86 @@ pub fn time_parameterize_tool(
         return Ok(at_rest(&waypoints[0], started));
     }
     let points: Vec<&[f64]> = keep.iter().map(|&k| waypoints[k].as_slice()).collect();
-    let knots = chord_knots(&points);
+    let tool_points: Option<Vec<[f64; 3]>> = proximity
+        .filter(|p| !p.hands.is_empty())
+        .map(|p| keep.iter().map(|&k| p.tool_positions[k]).collect());
+    let planned = fk.map(|fk| ToolPathCheck::new(&points, fk, settings.max_tool_deviation_m));
+    let taut = match (fk, &planned) {
+        (Some(fk), Some(planned)) if settings.taut_tool_budget_m > 0.0 => taut::pull_taut(
+            &points,
+            &chord_knots(&points),
+            (&limits.lower, &limits.upper),
+            fk,
+            planned,
+            settings.taut_tool_budget_m,
+        )
+        .filter(|q| q.windows(2).all(|w| w[0] != w[1])),
+        _ => None,
+    };
+    let path = Path {
+        points: &points,
+        tool_points: tool_points.as_deref(),
+        planned: planned.as_ref(),
+    };
+    // The joints pulled taut, else (no budget, or a sample off the planned
+    // tool path or beyond a limit) the waypoints as they are.
+    if let Some(taut) = &taut {
+        let taut_points: Vec<&[f64]> = taut.iter().map(Vec::as_slice).collect();
+        let taut_tools: Option<Vec<[f64; 3]>> = tool_points
+            .as_ref()
+            .zip(fk)
+            .map(|(_, fk)| taut.iter().map(|q| fk(q)).collect());
+        let timing = time_path(
+            &Path {
+                points: &taut_points,
+                tool_points: taut_tools.as_deref(),
+                planned: planned.as_ref(),
+            },
+            limits,
+            proximity,
+            fk,
+            settings,
+            started,
+        )?;
+        if timing.status == TimingStatus::Solved {
+            return Ok(timing);
+        }
+    }
+    time_path(&path, limits, proximity, fk, settings, started)
+}
+
+/// The joint path to time and the tool path it must keep to.
+struct Path<'a> {
+    /// Joint waypoints (consecutive ones distinct).
+    points: &'a [&'a [f64]],
+    /// The tool at each waypoint when hands are near, metres.
+    tool_points: Option<&'a [[f64; 3]]>,
+    /// The planned tool path (the collision-checked joint polyline's).
+    planned: Option<&'a ToolPathCheck<'a>>,
+}
+
+/// Blended path → grid → program → jerk filter → samples → checks.
+fn time_path(
+    path: &Path,
+    limits: &JointLimits,
+    proximity: Option<&Proximity>,
+    fk: Option<ToolFk>,
+    settings: &TimingSettings,
+    started: Instant,
+) -> Result<Timing, TimingError> {
+    let points = path.points;
+    let knots = chord_knots(points);
     let mut radii = widest_radii(&knots);
     if let Some(fk) = fk {
         narrow_radii(
-            &points,
+            points,
             &knots,
             &mut radii,
             fk,
             0.5 * settings.max_tool_deviation_m,
         );
     }
-    let spline = PiecewiseCubic::blended(&points, &knots, &radii);
+    let spline = PiecewiseCubic::blended(points, &knots, &radii);
 
     // Limits inside the program: scaled, with the margin taken off.
     let k = settings.speed_scale;
@@ -438,10 +520,10 @@ pub fn time_parameterize_tool(
             .collect(),
         tool_shrink: shrink * (1.0 - settings.tool_speed_margin),
     };
-    let tool_spline = match proximity {
-        Some(p) if !p.hands.is_empty() => Some(tool_spline(p, &keep, &knots, &radii)),
-        _ => None,
-    };
+    let tool_spline = path.tool_points.map(|tools| {
+        let tools: Vec<&[f64]> = tools.iter().map(|p| p.as_slice()).collect();
+        PiecewiseCubic::blended(&tools, &knots, &radii)
+    });
     let tool = tool_spline.as_ref().zip(proximity);
 
     let inputs = Inputs {
@@ -451,8 +533,8 @@ pub fn time_parameterize_tool(
         tool_spline: tool_spline.as_ref(),
         limits,
         settings,
-        points: &points,
-        fk,
+        points,
+        planned: path.planned,
         started,
     };
     let timing = finish(&inputs, solve_refined(&inputs, 0.0)?)?;
@@ -486,7 +568,7 @@ struct Inputs<'a> {
     limits: &'a JointLimits,
     settings: &'a TimingSettings,
     points: &'a [&'a [f64]],
-    fk: Option<ToolFk<'a>>,
+    planned: Option<&'a ToolPathCheck<'a>>,
     started: Instant,
 }
 
@@ -541,7 +623,7 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
         limits,
         settings,
         points,
-        fk,
+        planned,
         started,
         ..
     } = *inputs;
@@ -593,7 +675,6 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
         });
     }
     let ends = (points[0], points[points.len() - 1]);
-    let tool_path = fk.map(|fk| ToolPathCheck::new(points, fk, settings.max_tool_deviation_m));
     let sample_limits = sample::SampleLimits {
         lower: &limits.lower,
         upper: &limits.upper,
@@ -623,7 +704,7 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
                 tool_speed: tool
                     .as_ref()
                     .map(|(spline, t)| (*spline, t.limits.as_slice())),
-                tool_path: tool_path.as_ref(),
+                tool_path: planned,
             },
         );
         stats.jerk_filter_s = tau;
@@ -758,21 +839,6 @@ fn validate_input(
         }
     }
     Ok(())
-}
-
-/// The tool path: the blended construction on the tool positions, with the
-/// joint path's knots and radii.
-fn tool_spline(
-    proximity: &Proximity,
-    keep: &[usize],
-    knots: &[f64],
-    radii: &[f64],
-) -> PiecewiseCubic {
-    let tool_points: Vec<&[f64]> = keep
-        .iter()
-        .map(|&k| proximity.tool_positions[k].as_slice())
-        .collect();
-    PiecewiseCubic::blended(&tool_points, knots, radii)
 }
 
 /// The cap of every segment of `grid` (m/s) and the summary. A segment's
