@@ -7,10 +7,10 @@ use serde::{Deserialize, Serialize};
 use super::deviation::{ToolFk, ToolPathCheck, narrow_radii};
 use super::grid::{self, PathGrid};
 use super::jerk;
-use super::taut;
 use super::sample::{self, JointTrajectory, LimitKind, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
+use super::taut;
 use super::topp::{self, ProfileSolution, Program, ProgramSettings, SegmentRows, SolverOutcome};
 
 /// Per-joint limits of one arm.

@@ -90,7 +90,11 @@ fn levers(points: &[&[f64]], fk: ToolFk) -> Vec<f64> {
     const STEP: f64 = 1e-4;
     let dim = points[0].len();
     let mut out = vec![0.0_f64; dim];
-    for q in [points[0], points[points.len() / 2], points[points.len() - 1]] {
+    for q in [
+        points[0],
+        points[points.len() / 2],
+        points[points.len() - 1],
+    ] {
         let at = fk(q);
         let mut moved = q.to_vec();
         for j in 0..dim {
