@@ -167,16 +167,16 @@ impl<'a> Filtered<'a> {
                 .zip(&self.ends.0)
                 .for_each(|(o, q)| *o = q * t);
         } else if t >= duration {
-            let last = (self.profile.t.len() - 1) * dim;
-            for j in 0..dim {
-                out[j] = self.integral[last + j] + self.ends.1[j] * (t - duration);
+            let last = &self.integral[(self.profile.t.len() - 1) * dim..];
+            for ((o, integral), q) in out.iter_mut().zip(last).zip(&self.ends.1) {
+                *o = integral + q * (t - duration);
             }
         } else {
             let i = (self.profile.t.partition_point(|&ti| ti <= t).max(1) - 1)
                 .min(self.profile.t.len() - 2);
             self.segment_integral(i, t, out, scratch);
-            for j in 0..dim {
-                out[j] += self.integral[i * dim + j];
+            for (o, integral) in out.iter_mut().zip(&self.integral[i * dim..]) {
+                *o += integral;
             }
         }
     }
@@ -278,10 +278,10 @@ pub fn sample_jerk(
     padded_t.extend([times[n - 1] + last, times[n - 1] + 2.0 * last]);
     let at = |k: usize, j: usize| positions[k.saturating_sub(2).min(n - 1)][j];
     let mut worst: Option<(f64, usize, usize, f64)> = None;
-    for j in 0..jerk.len() {
+    for (j, limit) in jerk.iter().enumerate() {
         for k in 0..padded_t.len() - 3 {
             let value = third_difference(&padded_t[k..k + 4], |m| at(k + m, j));
-            let ratio = value.abs() / jerk[j];
+            let ratio = value.abs() / limit;
             if worst.is_none_or(|w| ratio > w.0) {
                 worst = Some((ratio, k.saturating_sub(2).min(n - 1), j, value));
             }

@@ -690,6 +690,12 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
     if widest > narrow {
         widths.push(widest);
     }
+    // Every sample's tool-path speed within the caps the program kept
+    // (`tool_speed_margin` below the rule's): the margin is for the real
+    // tool's speed, not for the averaging.
+    let kept_caps: Option<Vec<f64>> = tool
+        .as_ref()
+        .map(|(_, t)| t.limits.iter().map(|c| c * program.tool_shrink).collect());
     let mut outcome = None;
     for tau in widths {
         let motion = jerk::Filtered::new(spline, &profile, tau);
@@ -703,7 +709,8 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
                 motion: &motion,
                 tool_speed: tool
                     .as_ref()
-                    .map(|(spline, t)| (*spline, t.limits.as_slice())),
+                    .zip(kept_caps.as_deref())
+                    .map(|((spline, _), caps)| (*spline, caps)),
                 tool_path: planned,
             },
         );
