@@ -472,7 +472,11 @@ fn export_reference_case() {
             else {
                 continue;
             };
-            let limits = afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap());
+            // toppra has no jerk limit: afford's program alone is compared.
+            let limits = JointLimits {
+                jerk: Vec::new(),
+                ..afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap())
+            };
             let (taken, left) = t.gripper_samples();
             let at = |sample: usize| {
                 path.iter()

@@ -168,13 +168,15 @@ mod tests {
         let last = y.len() - 1;
         let (mut lo, mut hi): (Vec<f64>, Vec<f64>) =
             y.iter().map(|v| (v - 0.005, v + 0.005)).unzip();
-        (lo[0], hi[0], lo[last], hi[last]) = (y[0], y[0], y[last], y[last]);
+        // The ends on the ramp, as a piece's end waypoints are.
+        let end = 0.1 * x[last];
+        (lo[0], hi[0], lo[last], hi[last]) = (0.0, 0.0, end, end);
         let taut = taut_string(&x, &lo, &hi);
         assert!(taut.windows(2).all(|w| w[1] >= w[0]), "{taut:?}");
         for k in 0..=last {
             assert!(lo[k] - 1e-12 <= taut[k] && taut[k] <= hi[k] + 1e-12);
         }
-        assert_eq!((taut[0], taut[last]), (y[0], y[last]));
+        assert_eq!((taut[0], taut[last]), (0.0, end));
     }
 
     /// A real turn (up 0.1, then down) is kept: one reversal, at the top.
