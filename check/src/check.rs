@@ -17,6 +17,7 @@ use crate::chain::Kinematics;
 use crate::dense::{self, Findings, MAX_CONFIGURATIONS, Other, Pair, Phase};
 use crate::file::{PlanFile, SubgoalFile};
 use crate::format::{self, Events};
+use crate::jerk;
 use crate::placement;
 use crate::rates::{self, ArmJoints, REST_TOLERANCE};
 use crate::report::{Report, ViolationClass as C};
@@ -235,7 +236,10 @@ fn subgoal(
             .map(|&j| &r.model.joints()[j])
             .collect(),
     };
-    for (class, message, data) in rates::check(&joints, points, &windows) {
+    for (class, message, data) in rates::check(&joints, points, &windows)
+        .into_iter()
+        .chain(jerk::check(&joints, points))
+    {
         report.push_with(class, Some(k), message, data);
     }
     let events = match events {

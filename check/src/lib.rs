@@ -46,6 +46,7 @@ mod check;
 mod dense;
 mod file;
 mod format;
+mod jerk;
 pub mod physics;
 mod placement;
 mod rates;

@@ -21,7 +21,7 @@ pub enum ViolationClass {
     Velocity,
     /// A joint accelerating beyond its limit.
     Acceleration,
-    /// Reserved: jerk limits are not in the robot descriptions yet.
+    /// A joint's jerk (recomputed from positions and times) beyond its limit.
     Jerk,
     /// A sub-goal does not start where the previous one ended.
     Continuity,

@@ -497,6 +497,7 @@ fn quantity_name(q: LimitKind) -> &'static str {
         LimitKind::Velocity => "joint velocity",
         LimitKind::Acceleration => "joint acceleration",
         LimitKind::ToolSpeed => "tool speed",
+        LimitKind::Jerk => "joint jerk",
     }
 }
 

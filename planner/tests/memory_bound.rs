@@ -112,6 +112,7 @@ fn timing_refuses_a_piece_longer_than_max_samples_before_sampling() {
         upper: vec![10.0],
         velocity: vec![1e-3],
         acceleration: vec![1.0],
+        jerk: Vec::new(),
     };
     let (result, peak) =
         peak_of(|| time_parameterize(&path, &limits, None, &TimingSettings::default()));
@@ -137,6 +138,7 @@ fn a_piece_at_the_sample_bound_stays_within_its_share_of_the_memory_bound() {
         upper: vec![10.0; joints],
         velocity: vec![0.1; joints],
         acceleration: vec![1.0; joints],
+        jerk: Vec::new(),
     };
     let settings = TimingSettings {
         rate_hz: bounds::MAX_RATE_HZ,

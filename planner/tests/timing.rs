@@ -36,6 +36,7 @@ fn single_joint(distance: f64, v: f64, a: f64) -> f64 {
         upper: vec![10.0; 1],
         velocity: vec![v],
         acceleration: vec![a],
+        jerk: Vec::new(),
     };
     let timing = time_parameterize(
         &[vec![0.0], vec![distance]],
@@ -189,6 +190,7 @@ fn planar_case() -> (Vec<Vec<f64>>, JointLimits, Proximity) {
         upper: vec![10.0; 2],
         velocity: vec![1.5, 1.5],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let proximity = Proximity {
         tool_positions,
@@ -258,6 +260,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0, 1.0],
+        jerk: Vec::new(),
     };
     let path = vec![vec![0.0, 0.0], vec![1.0, 1.0]];
     let settings = TimingSettings::default();
@@ -285,6 +288,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 0.0],
         acceleration: vec![1.0, 1.0],
+        jerk: Vec::new(),
     };
     assert!(matches!(
         run(&path, &zero, &settings),
@@ -295,6 +299,7 @@ fn bad_input_is_an_error_not_a_panic() {
         upper: vec![10.0; 2],
         velocity: vec![1.0, 1.0],
         acceleration: vec![1.0],
+        jerk: Vec::new(),
     };
     assert!(matches!(
         run(&path, &short, &settings),
@@ -358,6 +363,7 @@ fn repeated_waypoints_merge_and_a_single_configuration_is_at_rest() {
         upper: vec![10.0; 1],
         velocity: vec![1.0],
         acceleration: vec![1.0],
+        jerk: Vec::new(),
     };
     let still = time_parameterize(
         &[vec![0.3], vec![0.3]],
@@ -466,7 +472,11 @@ fn export_reference_case() {
             else {
                 continue;
             };
-            let limits = afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap());
+            // toppra has no jerk limit: afford's program alone is compared.
+            let limits = JointLimits {
+                jerk: Vec::new(),
+                ..afford_planner::trajectory::arm_limits(&robot, robot.arm(arm).unwrap())
+            };
             let (taken, left) = t.gripper_samples();
             let at = |sample: usize| {
                 path.iter()
@@ -593,6 +603,7 @@ fn joint_at_its_limit_at_a_corner_stays_inside() {
         upper: vec![1.0, 1.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
     let trajectory = solved(&timing);
@@ -620,6 +631,7 @@ fn tool_leaves_planned_path_on_long_first_segment() {
         upper: vec![2.0, 2.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let fk = |q: &[f64]| [q[0], q[1], 0.0];
     let settings = TimingSettings::default();
@@ -661,6 +673,7 @@ fn tool_path_tolerance_is_checked_on_every_sample() {
         upper: vec![2.0, 2.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     // The tool moves 1000× the joints: a blend sized for the tolerance in
     // the linear estimate is checked, and passes.
@@ -719,6 +732,7 @@ fn continuous_joint_has_no_position_limit() {
         upper: vec![f64::INFINITY, 1.0],
         velocity: vec![1.0, 1.0],
         acceleration: vec![4.0, 4.0],
+        jerk: Vec::new(),
     };
     let path = vec![vec![7.0, 0.0], vec![7.5, 0.5], vec![8.0, 0.5]];
     let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
@@ -932,19 +946,25 @@ fn measure_example_subgoals() {
     if let Ok(rounds) = std::env::var("AFFORD_REFINE_ROUNDS") {
         options.timing.refine_rounds = rounds.parse().unwrap();
     }
+    if let Ok(budget) = std::env::var("AFFORD_TAUT_BUDGET_M") {
+        options.timing.taut_tool_budget_m = budget.parse().unwrap();
+    }
     for f in afford_planner::timing::examples::measure_examples(&options) {
         println!(
-            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4}  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({})",
+            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s)  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",
             f.example,
             f.subgoal,
             f.duration_s,
             f.reference_s,
             f.ratio_to_optimal,
+            f.ratio_without_jerk,
+            f.jerk_cost_s,
             f.timing_ms,
             f.max_velocity_reversals,
             f.reversal_joint,
             f.peak_jerk,
-            f.jerk_joint
+            f.jerk_joint,
+            f.jerk_ratio
         );
     }
 }
@@ -997,4 +1017,126 @@ fn dense_waypoints_refined_towards_the_converged_optimum() {
         refined - reference < 0.5 * (plain - reference),
         "refinement gained too little: plain {plain}, refined {refined}, reference {reference}"
     );
+}
+
+/// Six times the third divided difference of each joint's positions over
+/// four consecutive samples, the arm at rest before and after (written
+/// here, not taken from the planner): the largest over the limit.
+fn sampled_jerk_ratio(trajectory: &JointTrajectory, jerk: &[f64]) -> f64 {
+    let p = &trajectory.points;
+    let (n, h0, h1) = (
+        p.len(),
+        p[1].time_from_start - p[0].time_from_start,
+        p[p.len() - 1].time_from_start - p[p.len() - 2].time_from_start,
+    );
+    let t0 = p[0].time_from_start;
+    let tn = p[n - 1].time_from_start;
+    let mut times = vec![t0 - 2.0 * h0, t0 - h0];
+    times.extend(p.iter().map(|x| x.time_from_start));
+    times.extend([tn + h1, tn + 2.0 * h1]);
+    let q = |k: usize, j: usize| p[k.clamp(2, n + 1) - 2].positions[j];
+    let mut worst: f64 = 0.0;
+    for (j, limit) in jerk.iter().enumerate() {
+        for k in 0..times.len() - 3 {
+            let w = &times[k..k + 4];
+            let value: f64 = (0..4)
+                .map(|i| {
+                    let d: f64 = (0..4).filter(|&m| m != i).map(|m| w[i] - w[m]).product();
+                    q(k + i, j) / d
+                })
+                .sum::<f64>()
+                * 6.0;
+            worst = worst.max(value.abs() / limit);
+        }
+    }
+    worst
+}
+
+/// A time-optimal profile switches a joint's acceleration from +A to −A
+/// between two samples (the examples showed 2,000 rad/s³ against 428 rad/s³
+/// limits): with jerk limits the trajectory is averaged over a window of at
+/// most 2A/J, every sample within the jerk limit and still within the
+/// velocity and acceleration limits, at most 2A/J longer.
+#[test]
+fn timing_jerk_from_bang_bang_switches() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let path = random_smooth_path(&mut rng, 7, 8);
+    let free = iiwa_limits();
+    let limited = JointLimits {
+        jerk: free.acceleration.iter().map(|a| a / 0.02).collect(),
+        ..free.clone()
+    };
+    let settings = TimingSettings::default();
+    let unlimited = time_parameterize(&path, &free, None, &settings).unwrap();
+    let timing = time_parameterize(&path, &limited, None, &settings).unwrap();
+    let (before, after) = (solved(&unlimited), solved(&timing));
+    assert!(
+        sampled_jerk_ratio(before, &limited.jerk) > 2.0,
+        "the unlimited profile should break the jerk limit"
+    );
+    let ratio = sampled_jerk_ratio(after, &limited.jerk);
+    assert!(ratio <= 1.0 + 1e-6, "jerk {ratio} × its limit");
+    assert_within(after, &limited, 1.0);
+    let added = after.duration() - before.duration();
+    assert!(
+        (0.0..=0.04 + 1e-9).contains(&added) && (added - timing.stats.jerk_filter_s).abs() < 1e-9,
+        "the filter added {added} s (width {} s)",
+        timing.stats.jerk_filter_s
+    );
+}
+
+/// Velocity sign changes of joint `j` beyond 1e-3 rad/s.
+fn reversals(trajectory: &JointTrajectory, j: usize) -> usize {
+    let signs: Vec<f64> = trajectory
+        .points
+        .iter()
+        .map(|p| p.velocities[j])
+        .filter(|v| v.abs() > 1e-3)
+        .map(f64::signum)
+        .collect();
+    signs.windows(2).filter(|w| w[0] != w[1]).count()
+}
+
+/// Dense IK waypoints (every 1 cm of a 0.3 rad sweep) whose wrist swings
+/// ±3 mrad every ten waypoints around a slow turn, the shape path IK gave
+/// the examples' wrist joints: pulled taut within the tool budget the
+/// wrist turns one way only; without it the timed wrist reverses at every
+/// swing.
+#[test]
+fn timing_joint_reversals_from_ik_zigzag() {
+    let path: Vec<Vec<f64>> = (0..=30)
+        .map(|k| {
+            let u = k as f64 / 30.0;
+            let wiggle = 0.003 * (std::f64::consts::TAU * k as f64 / 10.0).sin();
+            vec![0.3 * u, 0.5 - 0.1 * u, 0.02 * u + wiggle]
+        })
+        .collect();
+    let fk = |q: &[f64]| -> [f64; 3] {
+        let (a, b, c) = (q[0], q[0] + q[1], q[0] + q[1] + q[2]);
+        [
+            0.6 * a.cos() + 0.4 * b.cos() + 0.1 * c.cos(),
+            0.6 * a.sin() + 0.4 * b.sin() + 0.1 * c.sin(),
+            0.0,
+        ]
+    };
+    let limits = JointLimits {
+        lower: vec![-3.0; 3],
+        upper: vec![3.0; 3],
+        velocity: vec![1.5; 3],
+        acceleration: vec![8.0; 3],
+        jerk: vec![400.0; 3],
+    };
+    let time = |budget: f64| {
+        let settings = TimingSettings {
+            taut_tool_budget_m: budget,
+            ..TimingSettings::default()
+        };
+        let timing = time_parameterize_tool(&path, &limits, None, Some(&fk), &settings).unwrap();
+        solved(&timing).clone()
+    };
+    let taut = time(TimingSettings::default().taut_tool_budget_m);
+    let raw = time(0.0);
+    assert_eq!(reversals(&taut, 2), 0, "the wrist still reverses");
+    assert!(reversals(&raw, 2) >= 5, "{} reversals", reversals(&raw, 2));
+    assert!(sampled_jerk_ratio(&taut, &limits.jerk) <= 1.0 + 1e-6);
 }

@@ -204,6 +204,30 @@ fn check_rejects_halved_times_by_the_accelerations_they_imply() {
         .rejects("acceleration", &["recomputed from positions and times"]);
 }
 
+/// A 1 mrad bump of joint_a2 at one sample: positions and times alone show
+/// a jerk of about 3 δ / h³ = 3,000 rad/s³ against its 428.5 rad/s³ limit.
+#[test]
+fn check_rejects_a_jerk_from_a_position_bump_naming_the_joint_and_time() {
+    let mut plan = reference();
+    let q = &mut points(&mut plan)[40]["positions"][1];
+    *q = json!(q.as_f64().expect("position") + 1e-3);
+    let c = check("jerk-bump", &scene(), &plan);
+    c.rejects("jerk", &["joint_a2", "limit 428.5 rad/s³"]);
+    let (_, _, message) = c
+        .violations
+        .iter()
+        .find(|(class, _, m)| class == "jerk" && m.contains("joint_a2"))
+        .expect("a jerk violation of joint_a2");
+    let windows = [(39, 40), (38, 39), (40, 41), (37, 38), (41, 42)];
+    assert!(
+        windows.iter().any(|&(a, b)| message.contains(&format!(
+            "around t = {:.3} s",
+            0.5 * (time(&plan, a) + time(&plan, b))
+        ))),
+        "the worst window is not next to sample 40: {message}"
+    );
+}
+
 #[test]
 fn check_rejects_a_velocity_step_of_140_rad_s2() {
     let mut plan = reference();

@@ -26,6 +26,7 @@ pub fn iiwa_limits() -> JointLimits {
         upper: vec![f64::INFINITY; 7],
         velocity: IIWA_VELOCITY.to_vec(),
         acceleration: IIWA_ACCELERATION.to_vec(),
+        jerk: Vec::new(),
     }
 }
 
@@ -93,6 +94,10 @@ pub struct TimingBenchReport {
     /// time-optimal one on the same path and limits (see
     /// [`examples`](super::examples)).
     pub max_ratio_to_optimal_examples: f64,
+    /// The same before the jerk filter (the discretisation's share).
+    pub max_ratio_without_jerk: f64,
+    /// Largest cost of the jerk limit on one example sub-goal, seconds.
+    pub max_jerk_cost_s: f64,
     /// Median wall time of the timing stage per example sub-goal, ms.
     pub median_ms_examples: f64,
     /// Most direction reversals of one joint within one example sub-goal.
@@ -145,6 +150,14 @@ pub fn timing_benchmark(bench: &TimingBenchSettings) -> TimingBenchReport {
         max_ratio_to_optimal_examples: examples
             .iter()
             .map(|f| f.ratio_to_optimal)
+            .fold(f64::NAN, f64::max),
+        max_ratio_without_jerk: examples
+            .iter()
+            .map(|f| f.ratio_without_jerk)
+            .fold(f64::NAN, f64::max),
+        max_jerk_cost_s: examples
+            .iter()
+            .map(|f| f.jerk_cost_s)
             .fold(f64::NAN, f64::max),
         median_ms_examples: quantile(&mut example_ms, 0.5),
         max_velocity_reversals: examples

@@ -16,13 +16,15 @@ use std::time::Instant;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
+use super::jerk::sample_jerk;
 use super::run::TimingSettings;
 use super::trajectory::{TimedMotion, TimingRequest, pieces, time_piece};
 use crate::plan::{PlanOptions, SubgoalPlan, plan};
 use crate::scenario::{Format, Scenario, parse};
 
-/// Every example scenario, by file name.
-pub const EXAMPLES: [(&str, &str); 16] = [
+/// Every example scenario (`examples/` and `examples/monitor/`, planned
+/// as `afford plan` plans them), by file name.
+pub const EXAMPLES: [(&str, &str); 26] = [
     (
         "cob4-extra-pieces",
         include_str!("../../../examples/cob4-extra-pieces.yaml"),
@@ -87,6 +89,46 @@ pub const EXAMPLES: [(&str, &str); 16] = [
         "unsolvable-instruction",
         include_str!("../../../examples/unsolvable-instruction.yaml"),
     ),
+    (
+        "monitor/cob4-goal-moved-while-holding",
+        include_str!("../../../examples/monitor/cob4-goal-moved-while-holding.yaml"),
+    ),
+    (
+        "monitor/cob4-hand-approaching",
+        include_str!("../../../examples/monitor/cob4-hand-approaching.yaml"),
+    ),
+    (
+        "monitor/cob4-hand-in-the-way",
+        include_str!("../../../examples/monitor/cob4-hand-in-the-way.yaml"),
+    ),
+    (
+        "monitor/cob4-piece-moved-away",
+        include_str!("../../../examples/monitor/cob4-piece-moved-away.yaml"),
+    ),
+    (
+        "monitor/cob4-pieces-added",
+        include_str!("../../../examples/monitor/cob4-pieces-added.yaml"),
+    ),
+    (
+        "monitor/goal-moved-while-holding",
+        include_str!("../../../examples/monitor/goal-moved-while-holding.yaml"),
+    ),
+    (
+        "monitor/hand-approaching",
+        include_str!("../../../examples/monitor/hand-approaching.yaml"),
+    ),
+    (
+        "monitor/hand-in-the-way",
+        include_str!("../../../examples/monitor/hand-in-the-way.yaml"),
+    ),
+    (
+        "monitor/piece-moved-away",
+        include_str!("../../../examples/monitor/piece-moved-away.yaml"),
+    ),
+    (
+        "monitor/pieces-added",
+        include_str!("../../../examples/monitor/pieces-added.yaml"),
+    ),
 ];
 
 /// The reference grid is this many times finer than the default one.
@@ -106,6 +148,12 @@ pub struct SubgoalFigures {
     pub reference_s: f64,
     /// `duration_s / reference_s`.
     pub ratio_to_optimal: f64,
+    /// `(duration_s − jerk_cost_s) / reference_s`: the discretisation's
+    /// share of the ratio.
+    pub ratio_without_jerk: f64,
+    /// What the jerk limit costs: the moving time less that of the
+    /// time-optimal profiles before the jerk filter, seconds.
+    pub jerk_cost_s: f64,
     /// Wall time of the timing stage (three pieces, default settings), ms.
     pub timing_ms: f64,
     /// Most direction reversals of one joint over the sub-goal's samples.
@@ -184,13 +232,16 @@ fn measure_subgoal(
         settings,
     };
     let reference = reference_settings(settings);
-    let (mut duration_s, mut reference_s, mut timing_ms) = (0.0, 0.0, 0.0);
+    let (mut duration_s, mut reference_s, mut timing_ms, mut jerk_cost_s) = (0.0, 0.0, 0.0, 0.0);
     for piece in pieces(&request) {
         let started = Instant::now();
         let timed = time_piece(&request, piece, settings).ok()?;
         timing_ms += started.elapsed().as_secs_f64() * 1e3;
         duration_s += timed.duration()?;
-        reference_s += time_piece(&request, piece, &reference).ok()?.duration()?;
+        jerk_cost_s += timed.stats.jerk_filter_s;
+        // The reference is the time-optimal profile, before the jerk filter.
+        let optimal = time_piece(&request, piece, &reference).ok()?;
+        reference_s += optimal.duration()? - optimal.stats.jerk_filter_s;
     }
     let (max_velocity_reversals, reversal_joint) = most_reversals(trajectory);
     let jerk_limits: Vec<f64> = arm
@@ -206,6 +257,8 @@ fn measure_subgoal(
         duration_s,
         reference_s,
         ratio_to_optimal: duration_s / reference_s,
+        ratio_without_jerk: (duration_s - jerk_cost_s) / reference_s,
+        jerk_cost_s,
         timing_ms,
         max_velocity_reversals,
         reversal_joint: arm.joint_names[reversal_joint].clone(),
@@ -241,26 +294,18 @@ fn most_reversals(motion: &TimedMotion) -> (usize, usize) {
         .fold((0, 0), |best, x| if x.0 > best.0 { x } else { best })
 }
 
-/// Largest jerk of any joint between consecutive samples (over its limit
-/// when `limits` are given), and its joint.
+/// Largest jerk of any joint, six times the third divided difference of
+/// its positions over four consecutive samples (the arm at rest before and
+/// after), over its limit when `limits` are given, and its joint.
 pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
-    let mut best = (0.0, 0);
-    for w in motion.points.windows(2) {
-        let dt = w[1].time_from_start - w[0].time_from_start;
-        if dt <= 0.0 {
-            continue;
-        }
-        for (j, (a0, a1)) in w[0]
-            .accelerations
-            .iter()
-            .zip(&w[1].accelerations)
-            .enumerate()
-        {
-            let jerk = (a1 - a0).abs() / dt / limits.map_or(1.0, |l| l[j]);
-            if jerk > best.0 {
-                best = (jerk, j);
-            }
-        }
-    }
-    best
+    let joints = motion.points.first().map_or(0, |p| p.positions.len());
+    let ones = vec![1.0; joints];
+    let times: Vec<f64> = motion.points.iter().map(|p| p.time_from_start).collect();
+    let positions: Vec<&[f64]> = motion
+        .points
+        .iter()
+        .map(|p| p.positions.as_slice())
+        .collect();
+    sample_jerk(&times, &positions, limits.unwrap_or(&ones))
+        .map_or((0.0, 0), |(ratio, _, joint, _)| (ratio, joint))
 }

@@ -69,6 +69,7 @@
 //!     upper: vec![3.0, 3.0],
 //!     velocity: vec![1.0, 1.0],
 //!     acceleration: vec![5.0, 5.0],
+//!     jerk: vec![250.0, 250.0],
 //! };
 //! let timing = time_parameterize(&path, &limits, None, &TimingSettings::default()).unwrap();
 //! let trajectory = timing.trajectory.expect("solved");
@@ -79,9 +80,11 @@ pub mod bench;
 pub mod deviation;
 pub mod examples;
 pub mod grid;
+pub mod jerk;
 pub mod sample;
 pub mod separation;
 pub mod spline;
+pub mod taut;
 pub mod topp;
 pub mod trajectory;
 

@@ -6,9 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use super::deviation::{ToolFk, ToolPathCheck, narrow_radii};
 use super::grid::{self, PathGrid};
-use super::sample::{self, JointTrajectory, LimitViolation, SpeedProfile};
+use super::jerk;
+use super::sample::{self, JointTrajectory, LimitKind, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
+use super::taut;
 use super::topp::{self, ProfileSolution, Program, ProgramSettings, SegmentRows, SolverOutcome};
 
 /// Per-joint limits of one arm.
@@ -24,6 +26,11 @@ pub struct JointLimits {
     pub velocity: Vec<f64>,
     /// `A_j`, rad/s² (> 0).
     pub acceleration: Vec<f64>,
+    /// `J_j`, rad/s³ (> 0), one per joint, or empty for no jerk limit. With
+    /// them the time-optimal trajectory is averaged over the shortest
+    /// window that keeps every joint's jerk within its limit ([`jerk`](super::jerk)).
+    #[serde(default)]
+    pub jerk: Vec<f64>,
 }
 
 /// Where the tool goes and where the hands are, for the separation rule.
@@ -59,6 +66,12 @@ pub struct TimingSettings {
     /// Refinement stops once a round gains less than this fraction of the
     /// duration, 1e-3.
     pub refine_tolerance: f64,
+    /// Tool budget, metres, for pulling the joints taut ([`taut`](super::taut)),
+    /// 0.0015: each smoothed waypoint's tool within this of the planned tool
+    /// path (the corner blends add up to half of `max_tool_deviation_m`).
+    /// 0 keeps the waypoints as they are. Used when the arm's forward
+    /// kinematics is given.
+    pub taut_tool_budget_m: f64,
     /// Controller sampling rate, Hz, 100.
     pub rate_hz: f64,
     /// Global speed scale `k ∈ (0, 1]`, 1: velocity limits × k, acceleration × k².
@@ -95,6 +108,7 @@ impl Default for TimingSettings {
             path_points: 300,
             refine_rounds: 0,
             refine_tolerance: 1e-3,
+            taut_tool_budget_m: 0.0015,
             rate_hz: 100.0,
             speed_scale: 1.0,
             smoothing_weight: 0.0,
@@ -112,7 +126,13 @@ impl Default for TimingSettings {
 impl TimingSettings {
     /// Checks every field is finite and in range.
     pub fn validate(&self) -> Result<(), TimingError> {
-        let checks: [(&'static str, f64, bool, &'static str); 9] = [
+        let checks: [(&'static str, f64, bool, &'static str); 10] = [
+            (
+                "taut_tool_budget_m",
+                self.taut_tool_budget_m,
+                self.taut_tool_budget_m >= 0.0,
+                "≥ 0",
+            ),
             (
                 "refine_tolerance",
                 self.refine_tolerance,
@@ -298,6 +318,7 @@ impl std::fmt::Display for TimingStatus {
                     super::sample::LimitKind::Velocity => "joint velocity",
                     super::sample::LimitKind::Acceleration => "joint acceleration",
                     super::sample::LimitKind::ToolSpeed => "tool speed",
+                    super::sample::LimitKind::Jerk => "joint jerk",
                 },
                 violation.sample,
                 violation.value.abs(),
@@ -320,6 +341,9 @@ pub struct SolveStats {
     pub solve_time_s: f64,
     /// Refinement rounds run after the first solve.
     pub refinements: u32,
+    /// Width of the jerk filter, seconds: the motion lasts this much
+    /// longer than the time-optimal profile (0 without jerk limits).
+    pub jerk_filter_s: f64,
     /// Whole stage (spline to checked samples), seconds.
     pub total_time_s: f64,
 }
@@ -395,23 +419,90 @@ pub fn time_parameterize_tool(
             keep.push(k);
         }
     }
-    let joints = limits.velocity.len();
     if keep.len() == 1 {
         return Ok(at_rest(&waypoints[0], started));
     }
     let points: Vec<&[f64]> = keep.iter().map(|&k| waypoints[k].as_slice()).collect();
-    let knots = chord_knots(&points);
+    let tool_points: Option<Vec<[f64; 3]>> = proximity
+        .filter(|p| !p.hands.is_empty())
+        .map(|p| keep.iter().map(|&k| p.tool_positions[k]).collect());
+    let planned = fk.map(|fk| ToolPathCheck::new(&points, fk, settings.max_tool_deviation_m));
+    let taut = match (fk, &planned) {
+        (Some(fk), Some(planned)) if settings.taut_tool_budget_m > 0.0 => taut::pull_taut(
+            &points,
+            &chord_knots(&points),
+            (&limits.lower, &limits.upper),
+            fk,
+            planned,
+            settings.taut_tool_budget_m,
+        )
+        .filter(|q| q.windows(2).all(|w| w[0] != w[1])),
+        _ => None,
+    };
+    let path = Path {
+        points: &points,
+        tool_points: tool_points.as_deref(),
+        planned: planned.as_ref(),
+    };
+    // The joints pulled taut, else (no budget, or a sample off the planned
+    // tool path or beyond a limit) the waypoints as they are.
+    if let Some(taut) = &taut {
+        let taut_points: Vec<&[f64]> = taut.iter().map(Vec::as_slice).collect();
+        let taut_tools: Option<Vec<[f64; 3]>> = tool_points
+            .as_ref()
+            .zip(fk)
+            .map(|(_, fk)| taut.iter().map(|q| fk(q)).collect());
+        let timing = time_path(
+            &Path {
+                points: &taut_points,
+                tool_points: taut_tools.as_deref(),
+                planned: planned.as_ref(),
+            },
+            limits,
+            proximity,
+            fk,
+            settings,
+            started,
+        )?;
+        if timing.status == TimingStatus::Solved {
+            return Ok(timing);
+        }
+    }
+    time_path(&path, limits, proximity, fk, settings, started)
+}
+
+/// The joint path to time and the tool path it must keep to.
+struct Path<'a> {
+    /// Joint waypoints (consecutive ones distinct).
+    points: &'a [&'a [f64]],
+    /// The tool at each waypoint when hands are near, metres.
+    tool_points: Option<&'a [[f64; 3]]>,
+    /// The planned tool path (the collision-checked joint polyline's).
+    planned: Option<&'a ToolPathCheck<'a>>,
+}
+
+/// Blended path → grid → program → jerk filter → samples → checks.
+fn time_path(
+    path: &Path,
+    limits: &JointLimits,
+    proximity: Option<&Proximity>,
+    fk: Option<ToolFk>,
+    settings: &TimingSettings,
+    started: Instant,
+) -> Result<Timing, TimingError> {
+    let points = path.points;
+    let knots = chord_knots(points);
     let mut radii = widest_radii(&knots);
     if let Some(fk) = fk {
         narrow_radii(
-            &points,
+            points,
             &knots,
             &mut radii,
             fk,
             0.5 * settings.max_tool_deviation_m,
         );
     }
-    let spline = PiecewiseCubic::blended(&points, &knots, &radii);
+    let spline = PiecewiseCubic::blended(points, &knots, &radii);
 
     // Limits inside the program: scaled, with the margin taken off.
     let k = settings.speed_scale;
@@ -429,30 +520,88 @@ pub fn time_parameterize_tool(
             .collect(),
         tool_shrink: shrink * (1.0 - settings.tool_speed_margin),
     };
-    let tool_spline = match proximity {
-        Some(p) if !p.hands.is_empty() => Some(tool_spline(p, &keep, &knots, &radii)),
-        _ => None,
-    };
+    let tool_spline = path.tool_points.map(|tools| {
+        let tools: Vec<&[f64]> = tools.iter().map(|p| p.as_slice()).collect();
+        PiecewiseCubic::blended(&tools, &knots, &radii)
+    });
     let tool = tool_spline.as_ref().zip(proximity);
 
-    let mut solved = solve_on_grid(
-        &spline,
-        PathGrid::new(&spline, settings.path_points),
-        &program,
+    let inputs = Inputs {
+        spline: &spline,
+        program: &program,
+        tool,
+        tool_spline: tool_spline.as_ref(),
+        limits,
+        settings,
+        points,
+        planned: path.planned,
+        started,
+    };
+    let timing = finish(&inputs, solve_refined(&inputs, 0.0)?)?;
+    // Averaging mixes the speeds of a stretch of path: where a hand's cap
+    // drops within that stretch, every cap is lowered to the smallest within
+    // the distance the filter spans and the path is timed again.
+    let widen = match (&timing.status, &timing.profile) {
+        (
+            TimingStatus::LimitViolated {
+                violation:
+                    LimitViolation {
+                        kind: LimitKind::ToolSpeed,
+                        ..
+                    },
+            },
+            Some(profile),
+        ) if timing.stats.jerk_filter_s > 0.0 => {
+            timing.stats.jerk_filter_s * profile.s_dot.iter().copied().fold(0.0, f64::max)
+        }
+        _ => return Ok(timing),
+    };
+    finish(&inputs, solve_refined(&inputs, widen)?)
+}
+
+/// What [`solve_refined`] and [`finish`] share.
+struct Inputs<'a> {
+    spline: &'a PiecewiseCubic,
+    program: &'a ProgramLimits,
+    tool: Option<(&'a PiecewiseCubic, &'a Proximity)>,
+    tool_spline: Option<&'a PiecewiseCubic>,
+    limits: &'a JointLimits,
+    settings: &'a TimingSettings,
+    points: &'a [&'a [f64]],
+    planned: Option<&'a ToolPathCheck<'a>>,
+    started: Instant,
+}
+
+/// The program on the first grid, then refined where a constraint binds
+/// (`settings.refine_rounds`); the hands' caps lowered to the smallest
+/// within `widen` of each segment (path length). Also the rounds run.
+fn solve_refined(inputs: &Inputs, widen: f64) -> Result<(Solved, u32), TimingError> {
+    let Inputs {
+        spline,
+        program,
         tool,
         settings,
+        ..
+    } = *inputs;
+    let mut solved = solve_on_grid(
+        spline,
+        PathGrid::new(spline, settings.path_points),
+        program,
+        tool,
+        settings,
+        widen,
     )?;
     let mut rounds = 0;
     let most = settings.path_points.max(solved.grid.segments()) * MAX_REFINED_GROWTH;
     while rounds < settings.refine_rounds && solved.usable() && solved.grid.segments() < most {
-        let active = solved.refinable(&spline, &program.acc);
+        let active = solved.refinable(spline, &program.acc);
         if !active.iter().any(|&a| a) {
             break;
         }
         let finer = solved
             .grid
             .split(|i| if active[i] { REFINE_PARTS } else { 1 });
-        let next = solve_on_grid(&spline, finer, &program, tool, settings)?;
+        let next = solve_on_grid(spline, finer, program, tool, settings, widen)?;
         rounds += 1;
         if !next.usable() {
             break;
@@ -463,6 +612,22 @@ pub fn time_parameterize_tool(
             break;
         }
     }
+    Ok((solved, rounds))
+}
+
+/// Samples the solved profile through the jerk filter and checks every sample.
+fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, TimingError> {
+    let Inputs {
+        spline,
+        program,
+        limits,
+        settings,
+        points,
+        planned,
+        started,
+        ..
+    } = *inputs;
+    let k = settings.speed_scale;
     let Solved {
         grid,
         rows,
@@ -470,7 +635,7 @@ pub fn time_parameterize_tool(
         tool: tool_caps,
     } = solved;
     let n = grid.segments();
-    let tool = tool_spline.as_ref().zip(tool_caps);
+    let tool = inputs.tool_spline.zip(tool_caps);
     let mut stats = SolveStats {
         outcome: solution.outcome,
         iterations: solution.iterations,
@@ -478,6 +643,7 @@ pub fn time_parameterize_tool(
         linear_rows: rows.rows.len(),
         solve_time_s: solution.solve_time_s,
         refinements: rounds,
+        jerk_filter_s: 0.0,
         total_time_s: 0.0,
     };
     let separation = tool.as_ref().map(|(_, t)| t.summary.clone());
@@ -497,38 +663,66 @@ pub fn time_parameterize_tool(
     }
 
     let profile = SpeedProfile::new(&grid, &solution.b);
-    let samples = (profile.duration() * settings.rate_hz).ceil() + 1.0;
+    let velocity: Vec<f64> = limits.velocity.iter().map(|v| v * k).collect();
+    let acceleration: Vec<f64> = limits.acceleration.iter().map(|a| a * k * k).collect();
+    let widest = jerk::jerk_bound_width(&program.acc, &limits.jerk).unwrap_or(0.0);
+    let samples = ((profile.duration() + widest) * settings.rate_hz).ceil() + 1.0;
     if !samples.is_finite() || samples > MAX_SAMPLES as f64 {
         return Err(TimingError::TooManySamples {
-            duration_s: profile.duration(),
+            duration_s: profile.duration() + widest,
             rate_hz: settings.rate_hz,
             samples,
         });
     }
     let ends = (points[0], points[points.len() - 1]);
-    let trajectory = sample::sample(&spline, &profile, settings.rate_hz, ends);
-    let velocity: Vec<f64> = limits.velocity.iter().map(|v| v * k).collect();
-    let acceleration: Vec<f64> = limits.acceleration.iter().map(|a| a * k * k).collect();
-    let tool_path = fk.map(|fk| ToolPathCheck::new(&points, fk, settings.max_tool_deviation_m));
-    let check = sample::verify(
-        &trajectory,
-        &sample::SampleLimits {
-            lower: &limits.lower,
-            upper: &limits.upper,
-            velocity: &velocity,
-            acceleration: &acceleration,
-            tolerance: settings.tolerance,
-        },
-        &sample::PathChecks {
-            path: &spline,
-            profile: &profile,
-            tool_speed: tool
-                .as_ref()
-                .map(|(spline, t)| (*spline, t.caps.as_slice())),
-            tool_path: tool_path.as_ref(),
-        },
-    );
-    debug_assert_eq!(trajectory.points[0].positions.len(), joints);
+    let sample_limits = sample::SampleLimits {
+        lower: &limits.lower,
+        upper: &limits.upper,
+        velocity: &velocity,
+        acceleration: &acceleration,
+        jerk: &limits.jerk,
+        tolerance: settings.tolerance,
+    };
+    // The narrowest filter found on the profile, then (should its samples
+    // break a limit) the width that bounds every joint's jerk.
+    let narrow = jerk::filter_width(spline, &profile, &program.acc, &limits.jerk);
+    let mut widths = vec![narrow];
+    if widest > narrow {
+        widths.push(widest);
+    }
+    // Every sample's tool-path speed within the caps the program kept
+    // (`tool_speed_margin` below the rule's): the margin is for the real
+    // tool's speed, not for the averaging.
+    let kept_caps: Option<Vec<f64>> = tool
+        .as_ref()
+        .map(|(_, t)| t.limits.iter().map(|c| c * program.tool_shrink).collect());
+    let mut outcome = None;
+    for tau in widths {
+        let motion = jerk::Filtered::new(spline, &profile, tau);
+        let trajectory = sample::sample(&motion, settings.rate_hz, ends);
+        let check = sample::verify(
+            &trajectory,
+            &sample_limits,
+            &sample::PathChecks {
+                path: spline,
+                profile: &profile,
+                motion: &motion,
+                tool_speed: tool
+                    .as_ref()
+                    .zip(kept_caps.as_deref())
+                    .map(|((spline, _), caps)| (*spline, caps)),
+                tool_path: planned,
+            },
+        );
+        stats.jerk_filter_s = tau;
+        let passed = check.is_ok();
+        outcome = Some((check, trajectory));
+        if passed {
+            break;
+        }
+    }
+    let (check, trajectory) = outcome.expect("at least one filter width is tried");
+    debug_assert_eq!(trajectory.points[0].positions.len(), limits.velocity.len());
     stats.total_time_s = started.elapsed().as_secs_f64();
     let (status, trajectory) = match check {
         Ok(()) => (TimingStatus::Solved, Some(trajectory)),
@@ -581,9 +775,17 @@ fn validate_input(
             });
         }
     }
+    if !limits.jerk.is_empty() && limits.jerk.len() != joints {
+        return Err(TimingError::SizeMismatch {
+            what: "jerk limits",
+            len: limits.jerk.len(),
+            expected: joints,
+        });
+    }
     for (what, values) in [
         ("velocity", &limits.velocity),
         ("acceleration", &limits.acceleration),
+        ("jerk", &limits.jerk),
     ] {
         for (joint, &value) in values.iter().enumerate() {
             if !(value.is_finite() && value > 0.0) {
@@ -646,21 +848,6 @@ fn validate_input(
     Ok(())
 }
 
-/// The tool path: the blended construction on the tool positions, with the
-/// joint path's knots and radii.
-fn tool_spline(
-    proximity: &Proximity,
-    keep: &[usize],
-    knots: &[f64],
-    radii: &[f64],
-) -> PiecewiseCubic {
-    let tool_points: Vec<&[f64]> = keep
-        .iter()
-        .map(|&k| proximity.tool_positions[k].as_slice())
-        .collect();
-    PiecewiseCubic::blended(&tool_points, knots, radii)
-}
-
 /// The cap of every segment of `grid` (m/s) and the summary. A segment's
 /// distance is the smaller end-point distance less half its chord (a lower
 /// bound along a straight chord).
@@ -668,6 +855,7 @@ fn tool_caps(
     proximity: &Proximity,
     tool: &PiecewiseCubic,
     grid: &PathGrid,
+    widen: f64,
 ) -> Result<ToolCaps, TimingError> {
     let rule = &proximity.rule;
     let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
@@ -715,8 +903,23 @@ fn tool_caps(
         caps.push(cap);
         graded.push(cap == rule.formula_speed(d));
     }
+    let limits = caps.clone();
+    if widen > 0.0 {
+        for (i, cap) in caps.iter_mut().enumerate() {
+            let from = grid
+                .s
+                .partition_point(|&s| s < grid.s[i] - widen)
+                .saturating_sub(1);
+            let to = grid.s.partition_point(|&s| s <= grid.s[i + 1] + widen);
+            *cap = limits[from..to.min(limits.len())]
+                .iter()
+                .copied()
+                .fold(*cap, f64::min);
+        }
+    }
     Ok(ToolCaps {
         caps,
+        limits,
         graded,
         summary,
     })
@@ -753,8 +956,11 @@ struct Solved {
 
 /// The tool-speed cap of every segment near hands.
 struct ToolCaps {
-    /// Cap, m/s.
+    /// Cap the program keeps, m/s.
     caps: Vec<f64>,
+    /// The separation rule's cap of each segment, m/s (`caps` may be lower,
+    /// see [`solve_refined`]).
+    limits: Vec<f64>,
     /// The cap is the separation formula's speed, growing with the hand
     /// distance (not clamped to the reduced speed or the crawl floor).
     graded: Vec<bool>,
@@ -818,10 +1024,11 @@ fn solve_on_grid(
     limits: &ProgramLimits,
     tool: Option<(&PiecewiseCubic, &Proximity)>,
     settings: &TimingSettings,
+    widen: f64,
 ) -> Result<Solved, TimingError> {
     let n = grid.segments();
     let caps = tool
-        .map(|(tool, proximity)| tool_caps(proximity, tool, &grid))
+        .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, widen))
         .transpose()?;
     let mut rows = SegmentRows {
         offsets: Vec::with_capacity(n + 1),
@@ -892,6 +1099,7 @@ fn at_rest(q: &[f64], started: Instant) -> Timing {
             linear_rows: 0,
             solve_time_s: 0.0,
             refinements: 0,
+            jerk_filter_s: 0.0,
             total_time_s: started.elapsed().as_secs_f64(),
         },
         separation: None,

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::deviation::ToolPathCheck;
 use super::grid::PathGrid;
+use super::jerk::{Filtered, State, sample_jerk};
 use super::spline::PiecewiseCubic;
 
 /// One sample, the shape of ROS `trajectory_msgs/JointTrajectoryPoint`
@@ -89,14 +90,9 @@ impl SpeedProfile {
 /// period to the end moves back to half a period before it, since rates a
 /// controller or checker derives from positions over a microsecond step
 /// are rounding noise.
-pub fn sample(
-    spline: &PiecewiseCubic,
-    profile: &SpeedProfile,
-    rate_hz: f64,
-    ends: (&[f64], &[f64]),
-) -> JointTrajectory {
-    let duration = profile.duration();
-    let dim = spline.dim();
+pub fn sample(motion: &Filtered, rate_hz: f64, ends: (&[f64], &[f64])) -> JointTrajectory {
+    let duration = motion.duration();
+    let dim = ends.0.len();
     let period = 1.0 / rate_hz;
     let count = (duration * rate_hz - 1e-9).ceil().max(0.0) as usize;
     let last_regular = (count.max(1) - 1) as f64 * period;
@@ -105,21 +101,23 @@ pub fn sample(
         false => last_regular,
     };
     let mut points = Vec::with_capacity(count + 1);
-    let (mut q, mut dq, mut ddq) = (vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]);
+    let mut state = State {
+        q: vec![0.0; dim],
+        dq: vec![0.0; dim],
+        ddq: vec![0.0; dim],
+    };
+    let mut scratch = (state.clone(), state.clone());
     for k in 0..=count {
         let t = match count - k {
             0 => duration,
             1 => before_end,
             _ => k as f64 * period,
         };
-        let (s, s_dot, s_ddot, _) = profile.state_at(t);
-        spline.eval(s, &mut q, &mut dq, &mut ddq);
+        motion.state(t, &mut state, &mut scratch);
         points.push(TrajectoryPoint {
-            positions: q.clone(),
-            velocities: dq.iter().map(|d| d * s_dot).collect(),
-            accelerations: (0..dim)
-                .map(|j| ddq[j] * s_dot * s_dot + dq[j] * s_ddot)
-                .collect(),
+            positions: state.q.clone(),
+            velocities: state.dq.clone(),
+            accelerations: state.ddq.clone(),
             time_from_start: t,
         });
     }
@@ -142,6 +140,8 @@ pub enum LimitKind {
     ToolSpeed,
     /// The tool's distance from the planned tool path, metres.
     ToolDeviation,
+    /// Jerk, rad/s³ (m/s³), from the samples' positions and times.
+    Jerk,
 }
 
 /// The first sample found outside its limit.
@@ -164,6 +164,8 @@ pub struct SampleLimits<'a> {
     pub upper: &'a [f64],
     pub velocity: &'a [f64],
     pub acceleration: &'a [f64],
+    /// Jerk limits, rad/s³ (m/s³); empty: none.
+    pub jerk: &'a [f64],
     /// Relative tolerance: a velocity or acceleration up to `limit (1 +
     /// tolerance)`, a position up to `tolerance · max(1, |limit|)` beyond.
     pub tolerance: f64,
@@ -173,6 +175,8 @@ pub struct SampleLimits<'a> {
 pub struct PathChecks<'a> {
     pub path: &'a PiecewiseCubic,
     pub profile: &'a SpeedProfile,
+    /// The timed path as sampled (averaged over its filter's window).
+    pub motion: &'a Filtered<'a>,
     /// The tool path (same knots) and the tool-speed cap of every grid segment, m/s.
     pub tool_speed: Option<(&'a PiecewiseCubic, &'a [f64])>,
     /// The planned tool path and its tolerance.
@@ -222,25 +226,29 @@ pub fn verify(
                 });
             }
         }
-        let (s, s_dot, _, segment) = checks.profile.state_at(p.time_from_start);
+        // The path stretch the sample averages: [s(t − τ), s(t)].
+        let t = p.time_from_start;
+        let tau = checks.motion.tau();
+        let (s_lo, s_hi) = (checks.motion.s_at(t - tau), checks.motion.s_at(t));
         if let Some((tool, caps)) = checks.tool_speed {
-            let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-            tool.eval(s, &mut x, &mut dx, &mut ddx);
-            let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
-            if !within(speed, caps[segment], tolerance) {
+            let (speed, limit) = tool_speed(checks, tool, caps, t, (s_lo, s_hi));
+            if !within(speed, limit, tolerance) {
                 return Err(LimitViolation {
                     kind: LimitKind::ToolSpeed,
                     sample: k,
                     joint: 0,
                     value: speed,
-                    limit: caps[segment],
+                    limit,
                 });
             }
         }
         if let Some(planned) = checks.tool_path {
-            let (piece, _) = checks.path.locate(s);
-            let distance =
-                planned.distance(planned.fk_of(&p.positions), checks.path.segments_of(piece));
+            let (first, last) = (checks.path.locate(s_lo).0, checks.path.locate(s_hi).0);
+            let segments = (
+                checks.path.segments_of(first).0,
+                checks.path.segments_of(last).1,
+            );
+            let distance = planned.distance(planned.fk_of(&p.positions), segments);
             if !within(distance, planned.tolerance_m, 0.0) {
                 return Err(LimitViolation {
                     kind: LimitKind::ToolDeviation,
@@ -252,7 +260,65 @@ pub fn verify(
             }
         }
     }
+    let times: Vec<f64> = trajectory
+        .points
+        .iter()
+        .map(|p| p.time_from_start)
+        .collect();
+    let positions: Vec<&[f64]> = trajectory
+        .points
+        .iter()
+        .map(|p| p.positions.as_slice())
+        .collect();
+    if let Some((ratio, sample, joint, value)) = sample_jerk(&times, &positions, limits.jerk)
+        && ratio > 1.0 + tolerance
+    {
+        return Err(LimitViolation {
+            kind: LimitKind::Jerk,
+            sample,
+            joint,
+            value,
+            limit: limits.jerk[joint],
+        });
+    }
     Ok(())
+}
+
+/// The tool's speed at time `t` and its cap, m/s. Unfiltered: the tool
+/// path's speed against its segment's cap. Filtered: the mean tool
+/// velocity over the window `[t − τ, t]` (what averaging the joints gives,
+/// to first order) against the smallest cap of the segments the window
+/// spans.
+fn tool_speed(
+    checks: &PathChecks,
+    tool: &PiecewiseCubic,
+    caps: &[f64],
+    t: f64,
+    (s_lo, s_hi): (f64, f64),
+) -> (f64, f64) {
+    let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+    let tau = checks.motion.tau();
+    if tau <= 0.0 {
+        let (s, s_dot, _, segment) = checks.profile.state_at(t);
+        tool.eval(s, &mut x, &mut dx, &mut ddx);
+        let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
+        return (speed, caps[segment]);
+    }
+    tool.eval(s_hi, &mut x, &mut dx, &mut ddx);
+    let ahead = x;
+    tool.eval(s_lo, &mut x, &mut dx, &mut ddx);
+    let speed = (0..3)
+        .map(|d| (ahead[d] - x[d]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        / tau;
+    let grid = &checks.profile.s;
+    let segment = |s: f64| (grid.partition_point(|&g| g <= s).max(1) - 1).min(caps.len() - 1);
+    let limit = caps[segment(s_lo)..=segment(s_hi)]
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    (speed, limit)
 }
 
 /// `|value| ≤ limit (1 + tolerance)`; false for NaN.
@@ -276,7 +342,11 @@ mod tests {
         b[0] = 0.0;
         *b.last_mut().unwrap() = 0.0;
         let profile = SpeedProfile::new(&grid, &b);
-        let trajectory = sample(&path, &profile, 100.0, (points[0], points[2]));
+        let trajectory = sample(
+            &Filtered::new(&path, &profile, 0.0),
+            100.0,
+            (points[0], points[2]),
+        );
         (trajectory, path, profile)
     }
 
@@ -290,11 +360,14 @@ mod tests {
             upper: &[1.0, f64::INFINITY],
             velocity: &[10.0, 10.0],
             acceleration: &[100.0, 100.0],
+            jerk: &[],
             tolerance: 1e-6,
         };
+        let motion = Filtered::new(path, profile, 0.0);
         let checks = PathChecks {
             path,
             profile,
+            motion: &motion,
             tool_speed: None,
             tool_path: None,
         };
@@ -309,7 +382,7 @@ mod tests {
         let periods = (duration * 100.0).floor() + 1e-4;
         let rate = periods / duration;
         let ends: (&[f64], &[f64]) = (&[0.0, 0.0], &[1.0, 7.5]);
-        let trajectory = sample(&path, &profile, rate, ends);
+        let trajectory = sample(&Filtered::new(&path, &profile, 0.0), rate, ends);
         let times: Vec<f64> = trajectory
             .points
             .iter()

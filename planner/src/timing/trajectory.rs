@@ -252,7 +252,8 @@ pub fn arm_limits(robot: &RobotModel, arm: &Arm) -> JointLimits {
         lower: arm.lower.clone(),
         upper: arm.upper.clone(),
         velocity: joints.clone().map(|j| j.velocity).collect(),
-        acceleration: joints.map(|j| j.acceleration).collect(),
+        acceleration: joints.clone().map(|j| j.acceleration).collect(),
+        jerk: joints.map(|j| j.jerk).collect(),
     }
 }
 
