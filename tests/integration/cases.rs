@@ -284,3 +284,16 @@ fn place_pieces_as_tall_as_the_wall_pack_by_their_own_footprint() {
     let (s, p) = every_piece_rests_apart("place-pieces-as-tall-as-the-wall", 3);
     assert_eq!(independent_check(&s, &p), Vec::<String>::new());
 }
+
+#[test]
+fn margin_to_a_piece_resting_on_a_goal_floor() {
+    let s = case("piece-in-goal-rests-on-its-floor");
+    let p = plan(&s, &PlanOptions::default()).expect("part of the instruction plans");
+    let tall = s.object_index("white-square-1").unwrap();
+    assert_eq!(p.subgoals[0].object, s.objects[tall].name);
+    assert!(
+        p.subgoals.len() >= 2,
+        "a sub-goal after the tall piece is in its box plans"
+    );
+    assert_eq!(independent_check(&s, &p), Vec::<String>::new());
+}

@@ -1,7 +1,8 @@
 //! The scenario as metric geometry for the collision checks: every pixel
 //! box mapped through `pixel_to_base` to a footprint on the table (centre,
 //! size along the image axes, yaw of the image u axis in the base frame),
-//! standing on `table_z` with its height, and its safety margin.
+//! standing on `table_z` with its height (an object resting in a goal box
+//! up to its top on the box's floor), and its safety margin.
 //!
 //! Margins: other objects get `obstacle_margin` (`sensitive_margin` when
 //! sensitive), hands `hand_margin`, goals `obstacle_margin` — except the
@@ -26,7 +27,8 @@ pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec 
             true => margins.obstacle_margin,
             false => object_margin(scenario, o),
         };
-        scene_box(scenario, &o.name, BoxKind::Object, o.bbox, o.height, margin)
+        let height = scenario.top_above_table(o);
+        scene_box(scenario, &o.name, BoxKind::Object, o.bbox, height, margin)
     });
     let goals = scenario.goals.iter().enumerate().map(|(i, g)| {
         let margin = if i == goal {

@@ -406,7 +406,7 @@ impl Under {
                     true => s.safety.sensitive_margin,
                     false => s.safety.obstacle_margin,
                 };
-                (grown(o.bbox, margin), o.height)
+                (grown(o.bbox, margin), s.top_above_table(o))
             });
         let goals = s.goals.iter().enumerate().map(|(i, g)| {
             let margin = if i == goal {
@@ -545,7 +545,7 @@ fn tallest(s: &Scenario, held: usize) -> f64 {
         .iter()
         .enumerate()
         .filter(|&(i, _)| i != held)
-        .map(|(_, o)| o.height);
+        .map(|(_, o)| s.top_above_table(o));
     objects
         .chain(s.goals.iter().map(|g| g.height))
         .chain(s.hands.iter().map(|h| h.height))

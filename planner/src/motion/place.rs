@@ -139,7 +139,7 @@ pub fn release_spot(
         .iter()
         .map(|&j| (j, object_margin(s, &s.objects[j])))
         .filter(|&(j, margin)| gap(s, lowered, spot, j) < margin + WALL_CLEARANCE)
-        .map(|(j, margin)| s.objects[j].height + margin)
+        .map(|(j, margin)| s.top_above_table(&s.objects[j]) + margin)
         .fold(0.0, f64::max);
     Ok(Release { spot, floor })
 }

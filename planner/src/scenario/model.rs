@@ -231,6 +231,18 @@ impl Scenario {
         self.goals.iter().position(|g| g.bbox.contains(c))
     }
 
+    /// Height of the object's top above the table top, m: its own height,
+    /// plus a goal box's floor ([`afford_collision::GOAL_WALL`]) when it
+    /// rests in one ([`Self::goal_holding`]). The collision scene stands
+    /// every object on the table, so an object in a box spans the floor
+    /// too: its top is where it really is, its bottom never above it.
+    pub fn top_above_table(&self, object: &Object) -> f64 {
+        match self.goal_holding(object) {
+            Some(_) => object.height + afford_collision::GOAL_WALL,
+            None => object.height,
+        }
+    }
+
     /// Metres per pixel along u and along v, from `pixel_to_base`.
     pub fn metres_per_pixel(&self) -> [f64; 2] {
         let m = &self.camera.pixel_to_base;
