@@ -22,15 +22,18 @@
 //!   when the fingertips then reach neither the object's middle nor
 //!   `min_grip_depth` below its top;
 //! - approach: grasp + `approach_clearance`;
-//! - carry: along each leg, every segment at least as high as the tallest
-//!   thing its footprint passes over (objects, goal walls, hands, grown by
-//!   their margins and the footprint) plus the held object's height plus
-//!   `carry_clearance`, so the held object's bottom clears everything under
-//!   it by at least `carry_clearance`; between such places the height ramps
-//!   at 45° along the tool path, and it is never below the approach height
-//!   (nor, carrying, the release height): the tool rises only where
-//!   something under it needs it. [`carry_height`] (the tallest thing on
-//!   the whole table, flat) is the fallback after a collision;
+//! - carry: the tallest thing the route passes over (objects, goal walls,
+//!   hands, grown by their margins and the footprint) plus the held
+//!   object's height plus `carry_clearance`, so the held object's bottom
+//!   clears everything under it by at least `carry_clearance`; never below
+//!   the approach or release height. [`carry_height`] (the tallest thing
+//!   on the whole table) is the fallback after a collision;
+//! - the turns over the target: the travel's last stretch descends from the
+//!   carry height to the approach height on a quarter ellipse, arriving
+//!   vertically, and the carry's first stretch rises the same way after the
+//!   lift, instead of right angles (near stops of the arm), where no
+//!   segment of the stretch needs more than the approach height by the
+//!   carry rule (`eased`); never on the fallback;
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top (or above the pieces already in the box that the open fingers
 //!   pass over, plus their margin: [`crate::place::Release::floor`]),
@@ -157,9 +160,7 @@ pub struct ToolWaypoint {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LiftedMotion {
     pub waypoints: Vec<ToolWaypoint>,
-    /// The lowest height above the table top (metres) at which the tool
-    /// travels or carries between the vertical moves: where the route passes
-    /// over nothing (the full [`carry_height`] when it is flat).
+    /// Carry height above the table top, metres.
     pub carry_height: f64,
 }
 
@@ -209,9 +210,9 @@ pub struct LiftRequest<'a> {
 
 /// Lifts a solved grid plan: the CQL cells pulled taut into an any-angle
 /// route ([`crate::motion::route`]), smoothed ([`smooth_route`]), at the
-/// carry height the route needs (ramped up only where something under it needs it). `Err` is why the
-/// gripper cannot take the object (too wide for its opening, too tall for a
-/// grip that keeps the palm clear).
+/// carry height the route needs, with eased turns over the target
+/// (`eased`). `Err` is why the gripper cannot take the object (too wide
+/// for its opening, too tall for a grip that keeps the palm clear).
 pub fn lift(
     scenario: &Scenario,
     task: &GridTask,
