@@ -108,3 +108,50 @@ fn route_is_never_shorter_than_the_oracle() {
     }
     assert!(measured >= 5, "only {measured} sub-goals planned");
 }
+
+/// Largest turn (degrees) between consecutive non-zero 3-D segments of
+/// `points`.
+fn sharpest_turn(points: &[[f64; 3]]) -> f64 {
+    let steps: Vec<[f64; 3]> = points
+        .windows(2)
+        .map(|w| [0, 1, 2].map(|k| w[1][k] - w[0][k]))
+        .filter(|d| d.iter().map(|x| x * x).sum::<f64>() > 1e-12)
+        .collect();
+    steps
+        .windows(2)
+        .map(|w| {
+            let dot: f64 = (0..3).map(|k| w[0][k] * w[1][k]).sum();
+            let norm = |d: &[f64; 3]| d.iter().map(|x| x * x).sum::<f64>().sqrt();
+            (dot / (norm(&w[0]) * norm(&w[1])))
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The tool turns from the route down onto the target, and from the lift
+/// into the carry, on a curve instead of a right angle (each right angle
+/// was a near stop; nothing under those stretches needs the carry height
+/// in the default scenario).
+#[test]
+fn route_turns_onto_the_vertical_moves_without_a_corner() {
+    let scenario = default_scenario().expect("default scenario");
+    let plan = plan_waypoints(&scenario);
+    for (k, done) in plan.subgoals.iter().enumerate() {
+        let motion = done.waypoints.as_ref().expect("waypoints");
+        let stretch = |phases: &[Phase]| -> Vec<[f64; 3]> {
+            motion
+                .waypoints
+                .iter()
+                .filter(|w| phases.contains(&w.phase))
+                .map(|w| w.position)
+                .collect()
+        };
+        let down = stretch(&[Phase::Travel, Phase::Approach, Phase::Grasp]);
+        let up = stretch(&[Phase::Lift, Phase::Carry]);
+        let (d, u) = (sharpest_turn(&down), sharpest_turn(&up));
+        eprintln!("sub-goal {k}: sharpest turn down {d:.1}°, up {u:.1}°");
+        assert!(d < 45.0 && u < 45.0, "sub-goal {k}: {d:.1}°, {u:.1}°");
+    }
+}

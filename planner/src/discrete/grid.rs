@@ -76,6 +76,14 @@ pub struct StateGrid {
     /// the drop cell, with its release floor ([`crate::place`]), or why no
     /// spot is left.
     pub release: Result<Release, NoSpot>,
+    /// The blocked perimeters as painted (pixel boxes already grown by
+    /// their margins: other objects, other goals, hands), for the any-angle
+    /// route ([`crate::motion::route`]), which keeps off them rather than off
+    /// the whole cells they touch.
+    pub perimeters: Vec<PixelBox>,
+    /// Cells blocked after a collision check ([`Self::block`]): blocked as
+    /// a whole, whatever painted them.
+    pub checked: Vec<Cell>,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -118,6 +126,8 @@ impl StateGrid {
             target: (0, 0),
             drop: None,
             release: Err(NoSpot::Covered),
+            perimeters: Vec::new(),
+            checked: Vec::new(),
         };
         grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
         grid.start = grid.cell_at(req.gripper);
@@ -183,9 +193,13 @@ impl StateGrid {
             })
     }
 
-    /// Marks every cell the box, grown by `margin` pixels, overlaps.
+    /// Marks every cell the box, grown by `margin` pixels, overlaps; a
+    /// blocked code records the grown box in [`Self::perimeters`].
     fn paint(&mut self, bbox: PixelBox, [du, dv]: [f64; 2], code: CellCode) {
         let b = bbox.grown(du, dv);
+        if code.is_blocked() {
+            self.perimeters.push(b);
+        }
         let Some((r0, r1)) = self.span(b.v, b.l, 1) else {
             return;
         };
@@ -201,7 +215,7 @@ impl StateGrid {
 
     /// Inclusive range of cell indices along axis `k` that the open interval
     /// (start, start + len) overlaps; `None` when it misses the grid.
-    fn span(&self, start: f64, len: f64, k: usize) -> Option<(usize, usize)> {
+    pub fn span(&self, start: f64, len: f64, k: usize) -> Option<(usize, usize)> {
         const EPS: f64 = 1e-9;
         let n = if k == 0 { self.cols } else { self.rows } as f64;
         let lo = ((start - self.origin[k]) / self.cell_size[k] + EPS)
@@ -283,6 +297,7 @@ impl StateGrid {
     /// did not see (an elbow over a tall object) or to build test grids.
     pub fn block(&mut self, cell: Cell) {
         self.set(cell, CellCode::Obstacle);
+        self.checked.push(cell);
     }
 
     /// A grid given directly by its codes (tests, benchmarks). Cell size is
@@ -302,6 +317,8 @@ impl StateGrid {
             target: (target / cols, target % cols),
             drop: None,
             release: Err(NoSpot::Covered),
+            perimeters: Vec::new(),
+            checked: Vec::new(),
         };
         let goals: Vec<[f64; 2]> = (0..grid.len())
             .filter(|&i| grid.codes[i] == CellCode::Goal)

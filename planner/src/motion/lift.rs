@@ -23,11 +23,17 @@
 //!   `min_grip_depth` below its top;
 //! - approach: grasp + `approach_clearance`;
 //! - carry: the tallest thing the route passes over (objects, goal walls,
-//!   hands, grown by their margins and the footprint; [`route_carry_height`])
-//!   plus the held object's height plus `carry_clearance`, so the held
-//!   object's bottom clears everything under it by at least
-//!   `carry_clearance`; never below the approach or release height. [`carry_height`] (the tallest
-//!   thing on the whole table) is the fallback after a collision;
+//!   hands, grown by their margins and the footprint) plus the held
+//!   object's height plus `carry_clearance`, so the held object's bottom
+//!   clears everything under it by at least `carry_clearance`; never below
+//!   the approach or release height. [`carry_height`] (the tallest thing
+//!   on the whole table) is the fallback after a collision;
+//! - the turns over the target: the travel's last stretch descends from the
+//!   carry height to the approach height on a quarter ellipse, arriving
+//!   vertically, and the carry's first stretch rises the same way after the
+//!   lift, instead of right angles (near stops of the arm), where no
+//!   segment of the stretch needs more than the approach height by the
+//!   carry rule (`eased`); never on the fallback;
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top (or above the pieces already in the box that the open fingers
 //!   pass over, plus their margin: [`crate::place::Release::floor`]),
@@ -204,9 +210,9 @@ pub struct LiftRequest<'a> {
 
 /// Lifts a solved grid plan: the CQL cells pulled taut into an any-angle
 /// route ([`crate::motion::route`]), smoothed ([`smooth_route`]), at the
-/// carry height the route needs ([`route_carry_height`]). `Err` is why the
-/// gripper cannot take the object (too wide for its opening, too tall for a
-/// grip that keeps the palm clear).
+/// carry height the route needs, with eased turns over the target
+/// (`eased`). `Err` is why the gripper cannot take the object (too wide
+/// for its opening, too tall for a grip that keeps the palm clear).
 pub fn lift(
     scenario: &Scenario,
     task: &GridTask,
@@ -234,8 +240,11 @@ pub fn lift(
         .position(|&a| a == Action::Goal)
         .unwrap_or(actions.len());
     let centres = |leg: &[Cell]| leg.iter().map(|&c| grid.centre(c)).collect::<Vec<_>>();
+    // From the tool itself to the next cell: the start cell's centre is
+    // where the grid rounds the tool to, not a place to go (and is inside a
+    // perimeter when the tool starts in one).
     let mut to_target = vec![request.start_px];
-    to_target.extend(centres(&cells[..=grasp_at]));
+    to_target.extend(centres(&cells[usize::from(grasp_at > 0)..=grasp_at]));
     let mut to_goal = centres(&cells[grasp_at..=goal_at]);
     let near = cells[goal_at];
     let drop = grid.drop.unwrap_or(near);
@@ -251,12 +260,27 @@ pub fn lift(
     let carry = smooth_route(grid, &taut(grid, &to_goal));
     let approach = grasp + settings.approach_clearance;
     let release = floor.max(scenario.goals[goal].height) + grasp + settings.release_clearance;
+    let metres = scenario.metres_per_pixel();
+    let under = Under::of(scenario, grid, object, goal);
+    let need = |a, b| under.tallest(a, b) + held.height + settings.carry_clearance;
     let carry_height = match request.full_height {
         true => carry_height(scenario, object, settings),
-        false => route_carry_height(scenario, grid, object, goal, &[&travel, &carry], settings),
+        false => [&travel, &carry]
+            .iter()
+            .flat_map(|leg| needs(leg, &need))
+            .fold(0.0, f64::max),
     }
     .max(approach)
     .max(release);
+    // Over the target the tool turns between the route and the vertical
+    // moves on a quarter ellipse instead of a corner, where nothing under
+    // that stretch needs more than the approach height (not on the
+    // full-height fallback).
+    let ease = |leg: &[[f64; 2]], at_end: bool| match request.full_height {
+        true => leg.iter().map(|&p| (p, carry_height)).collect(),
+        false => eased(leg, metres, &need, [approach, carry_height], at_end),
+    };
+    let (travel, carry) = (ease(&travel, true), ease(&carry, false));
     let at = |p: [f64; 2], h: f64| {
         let [x, y] = scenario.pixel_to_base(p);
         [x, y, table + h]
@@ -272,17 +296,16 @@ pub fn lift(
     if start_height < carry_height - settings.max_step / 10.0 {
         out.push(point(request.start_px, carry_height, Phase::Travel, false));
     }
-    let [mu, mv] = scenario.metres_per_pixel();
     let mut along = 0.0;
     for pair in travel.windows(2) {
-        along += ((pair[1][0] - pair[0][0]) * mu).hypot((pair[1][1] - pair[0][1]) * mv);
-        // Down to the carry height at 45° when the tool starts higher.
-        let h = (start_height - along).max(carry_height);
-        out.push(point(pair[1], h, Phase::Travel, false));
+        let ((from, _), (to, z)) = (pair[0], pair[1]);
+        along += planar_distance(from, to, metres);
+        // Down along the route at 45° when the tool starts higher.
+        out.push(point(to, z.max(start_height - along), Phase::Travel, false));
     }
     let target_px = grid.centre(grid.target);
-    // At the approach height already (nothing under the route needs more):
-    // no second waypoint at the same place.
+    // At the approach height already (nothing under the route needs more,
+    // or the eased turn ends there): no second waypoint at the same place.
     let over_target = point(target_px, approach, Phase::Approach, false);
     if out
         .last()
@@ -291,13 +314,13 @@ pub fn lift(
         out.push(over_target);
     }
     out.push(point(target_px, grasp, Phase::Grasp, false));
-    out.push(point(target_px, carry_height, Phase::Lift, true));
+    out.push(point(target_px, carry[0].1, Phase::Lift, true));
     let goal_box = scenario.goals[goal].bbox;
     let mut over = false;
-    for &p in carry.iter().skip(1) {
+    for &(p, z) in carry.iter().skip(1) {
         over |= goal_box.contains(p);
         let phase = if over { Phase::OverWall } else { Phase::Carry };
-        out.push(point(p, carry_height, phase, true));
+        out.push(point(p, z, phase, true));
     }
     out.push(point(drop_px, release, Phase::Release, true));
     out.push(point(drop_px, carry_height, Phase::Retreat, false));
@@ -358,70 +381,138 @@ pub fn carry_height(scenario: &Scenario, object: usize, settings: &LiftSettings)
     tallest(scenario, object) + scenario.objects[object].height + settings.carry_clearance
 }
 
-/// Carry height (metres above the table top) that the route needs: the
-/// tallest thing the footprint (a cell-sized square, pixels) passes over
-/// anywhere along `legs` (pixel polylines) — objects other than the held
-/// one and goal walls grown by the margins the grid paints them with (the
-/// sub-goal's own goal by none), hands by `hand_margin`, touching counts —
-/// plus the object's height plus `carry_clearance` (just those two when the
-/// route passes over nothing).
-pub fn route_carry_height(
-    scenario: &Scenario,
-    grid: &StateGrid,
-    object: usize,
-    goal: usize,
-    legs: &[&[[f64; 2]]],
-    settings: &LiftSettings,
-) -> f64 {
-    let s = scenario;
-    let [mu, mv] = s.metres_per_pixel();
-    let grown = |b: PixelBox, margin: f64| {
-        b.grown(
-            margin / mu + grid.cell_size[0] / 2.0,
-            margin / mv + grid.cell_size[1] / 2.0,
-        )
-    };
-    let objects = s
-        .objects
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != object)
-        .map(|(_, o)| {
-            let margin = match s.is_sensitive(o) {
-                true => s.safety.sensitive_margin,
-                false => s.safety.obstacle_margin,
-            };
-            (grown(o.bbox, margin), s.top_above_table(o))
-        });
-    let goals = s.goals.iter().enumerate().map(|(i, g)| {
-        let margin = if i == goal {
-            0.0
-        } else {
-            s.safety.obstacle_margin
+/// What a footprint (a cell-sized square) passes over on the way: objects
+/// other than the held one and goal walls grown by the margins the grid
+/// paints them with (the sub-goal's own goal by none), hands by
+/// `hand_margin`, each grown again by half the footprint, with their
+/// heights above the table (metres).
+struct Under(Vec<(PixelBox, f64)>);
+
+impl Under {
+    fn of(s: &Scenario, grid: &StateGrid, object: usize, goal: usize) -> Self {
+        let [mu, mv] = s.metres_per_pixel();
+        let grown = |b: PixelBox, margin: f64| {
+            b.grown(
+                margin / mu + grid.cell_size[0] / 2.0,
+                margin / mv + grid.cell_size[1] / 2.0,
+            )
         };
-        (grown(g.bbox, margin), g.height)
-    });
-    let hands = s
-        .hands
+        let objects = s
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != object)
+            .map(|(_, o)| {
+                let margin = match s.is_sensitive(o) {
+                    true => s.safety.sensitive_margin,
+                    false => s.safety.obstacle_margin,
+                };
+                (grown(o.bbox, margin), s.top_above_table(o))
+            });
+        let goals = s.goals.iter().enumerate().map(|(i, g)| {
+            let margin = if i == goal {
+                0.0
+            } else {
+                s.safety.obstacle_margin
+            };
+            (grown(g.bbox, margin), g.height)
+        });
+        let hands = s
+            .hands
+            .iter()
+            .map(|h| (grown(h.bbox, s.safety.hand_margin), h.height));
+        Self(objects.chain(goals).chain(hands).collect())
+    }
+
+    /// Height of the tallest thing the footprint passes over from `a` to
+    /// `b` (pixels; touching counts), 0 when none.
+    fn tallest(&self, a: [f64; 2], b: [f64; 2]) -> f64 {
+        self.0
+            .iter()
+            .filter(|(b_, _)| {
+                // Touching counts: the box grown by a micro-pixel.
+                let lo = [b_.u - 1e-6, b_.v - 1e-6];
+                let hi = [b_.u + b_.w + 1e-6, b_.v + b_.l + 1e-6];
+                crosses_open_box(a, b, lo, hi)
+            })
+            .fold(0.0, |t: f64, (_, h)| t.max(*h))
+    }
+}
+
+/// The need of every segment of a leg (of its one point when it has one).
+fn needs(leg: &[[f64; 2]], need: &dyn Fn([f64; 2], [f64; 2]) -> f64) -> Vec<f64> {
+    match leg.len() {
+        1 => vec![need(leg[0], leg[0])],
+        _ => leg.windows(2).map(|w| need(w[0], w[1])).collect(),
+    }
+}
+
+/// Samples of the quarter ellipse that eases a turn between the route and
+/// a vertical move, from the route's end.
+const EASE_SAMPLES: usize = 16;
+
+/// The leg's points (pixels) with their heights (metres above the table):
+/// at `high` = `heights[1]`, except that over the stretch nearest the
+/// target (the leg's end when `at_end`, else its start) the height follows
+/// a quarter ellipse down to `low` = `heights[0]` at the target, arriving
+/// vertically, with a horizontal reach of `high − low` metres (the circle)
+/// or the whole leg when shorter. The ellipse is used only when no segment
+/// of that stretch needs more than `low` (`need`, metres): everything on it
+/// is at least as high as its need. The stretch is resampled so the curve
+/// has `EASE_SAMPLES` points.
+fn eased(
+    leg: &[[f64; 2]],
+    metres: [f64; 2],
+    need: &dyn Fn([f64; 2], [f64; 2]) -> f64,
+    [low, high]: [f64; 2],
+    at_end: bool,
+) -> Vec<([f64; 2], f64)> {
+    let mut points: Vec<[f64; 2]> = leg.to_vec();
+    if at_end {
+        points.reverse();
+    }
+    // Arc length from the target (the first point now), metres.
+    let mut s = vec![0.0; points.len()];
+    for i in 1..points.len() {
+        s[i] = s[i - 1] + planar_distance(points[i - 1], points[i], metres);
+    }
+    let reach = (high - low).min(s.last().copied().unwrap_or(0.0));
+    let clear = needs(&points, need)
         .iter()
-        .map(|h| (grown(h.bbox, s.safety.hand_margin), h.height));
-    let passes_over = |b: &PixelBox| {
-        // Touching counts: the box grown by a micro-pixel.
-        let (lo, hi) = (
-            [b.u - 1e-6, b.v - 1e-6],
-            [b.u + b.w + 1e-6, b.v + b.l + 1e-6],
-        );
-        legs.iter().any(|leg| match leg.len() {
-            1 => crosses_open_box(leg[0], leg[0], lo, hi),
-            _ => leg.windows(2).any(|w| crosses_open_box(w[0], w[1], lo, hi)),
-        })
+        .zip(&s)
+        .all(|(n, &from)| from >= reach || *n <= low);
+    let mut out: Vec<([f64; 2], f64)> = if reach <= 1e-6 || high <= low || !clear {
+        points.iter().map(|&p| (p, high)).collect()
+    } else {
+        let at = |d: f64| {
+            let k = s.partition_point(|&x| x < d).clamp(1, points.len() - 1);
+            let t = ((d - s[k - 1]) / (s[k] - s[k - 1]).max(1e-12)).clamp(0.0, 1.0);
+            [0, 1].map(|c| points[k - 1][c] + t * (points[k][c] - points[k - 1][c]))
+        };
+        let curve = (0..=EASE_SAMPLES).map(|i| {
+            let phi = i as f64 / EASE_SAMPLES as f64 * std::f64::consts::FRAC_PI_2;
+            (
+                at(reach * (1.0 - phi.cos())),
+                low + (high - low) * phi.sin(),
+            )
+        });
+        let rest = points
+            .iter()
+            .zip(&s)
+            .filter(|&(_, &d)| d > reach + 1e-9)
+            .map(|(&p, _)| (p, high));
+        curve.chain(rest).collect()
     };
-    let tallest = objects
-        .chain(goals)
-        .chain(hands)
-        .filter(|(b, _)| passes_over(b))
-        .fold(0.0, |t: f64, (_, h)| t.max(h));
-    tallest + s.objects[object].height + settings.carry_clearance
+    if at_end {
+        out.reverse();
+    }
+    out
+}
+
+/// Horizontal distance (metres) between two pixels, `metres` per pixel
+/// along u and v.
+fn planar_distance(a: [f64; 2], b: [f64; 2], [mu, mv]: [f64; 2]) -> f64 {
+    ((b[0] - a[0]) * mu).hypot((b[1] - a[1]) * mv)
 }
 
 fn distance3(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -491,4 +582,51 @@ pub fn grasp_yaw(
         (m[0][1], m[1][1])
     };
     Ok(dy.atan2(dx))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MM: [f64; 2] = [0.001, 0.001];
+
+    /// The turn over the target is a quarter ellipse: it ends at the low
+    /// height going straight down, never dips below what the stretch needs,
+    /// and reaches the route's height one drop's length before the target.
+    #[test]
+    fn lift_eases_the_turn_over_the_target_where_nothing_under_needs_more() {
+        let leg = [[0.0, 0.0], [100.0, 0.0], [200.0, 0.0]];
+        let eased = eased(&leg, MM, &|_, _| 0.08, [0.12, 0.18], true);
+        let (last, before) = (eased[eased.len() - 1], eased[eased.len() - 2]);
+        assert_eq!(last, ([200.0, 0.0], 0.12));
+        // Arriving vertically: the last step is mostly down.
+        assert!(before.1 - last.1 > 5.0 * (last.0[0] - before.0[0]) * 0.001);
+        // Flat until 60 mm before the target, then only going down.
+        for w in eased.windows(2) {
+            assert!(w[1].1 <= w[0].1 + 1e-12 && w[0].1 >= 0.12 - 1e-12);
+            if w[1].0[0] <= 140.0 {
+                assert!((w[1].1 - 0.18).abs() < 1e-9, "{w:?}");
+            }
+        }
+    }
+
+    /// Something under the last stretch that needs more than the low height
+    /// keeps the corner: flat at the route's height up to the target.
+    #[test]
+    fn lift_keeps_the_corner_where_something_under_needs_the_height() {
+        let leg = [[0.0, 0.0], [100.0, 0.0], [200.0, 0.0]];
+        let need = |a: [f64; 2], _: [f64; 2]| if a[0] >= 100.0 { 0.15 } else { 0.08 };
+        let eased = eased(&leg, MM, &need, [0.12, 0.18], true);
+        assert!(eased.iter().all(|&(_, z)| (z - 0.18).abs() < 1e-12));
+        // The other end eases the same way when it is the target's.
+        let from_start = eased_heights(&leg, [0.12, 0.18]);
+        assert_eq!(from_start.first(), Some(&0.12));
+    }
+
+    fn eased_heights(leg: &[[f64; 2]], heights: [f64; 2]) -> Vec<f64> {
+        eased(leg, MM, &|_, _| 0.0, heights, false)
+            .into_iter()
+            .map(|(_, z)| z)
+            .collect()
+    }
 }

@@ -4,24 +4,33 @@
 //!
 //! Free space (pixels): the tool's point `p` is free when the footprint —
 //! a square the size of one cell (the target's box, as in
-//! [`crate::smooth`]) centred at `p` — overlaps no 0.2/0.4 cell and stays on
-//! the grid. So the forbidden region is the union of the blocked cells
-//! grown by one footprint (closed squares of twice the cell size around
-//! the blocked cells' centres, the configuration-space obstacles), whose
-//! corners are cell centres. A segment is free when the footprint swept
-//! along it overlaps no blocked cell ([`segment_is_free`]: the segment
-//! against every grown blocked cell, Liang–Barsky clipping, exact up to a
-//! shrink of 1e-6 cell that lets the footprint touch a blocked cell).
+//! [`crate::smooth`]) centred at `p` — stays on the grid and overlaps no
+//! painted perimeter ([`StateGrid::perimeters`]: other objects, other goals
+//! and hands, already grown by their margins) and no blocked cell that no
+//! perimeter explains or that a collision check blocked
+//! ([`StateGrid::checked`]). The blocked cells hold every perimeter, so the
+//! route keeps off what they keep off, without being held a cell's
+//! rounding away from it. The forbidden region is those boxes grown by half
+//! the footprint (the configuration-space obstacles, open rectangles). A
+//! segment is free when it crosses none ([`segment_is_free`]: Liang–Barsky
+//! clipping, exact up to a shrink of 1e-6 cell that lets the footprint
+//! touch a perimeter). The cells the grid leaves open over a perimeter (the
+//! target's, and those it clears under the gripper) stay closed to the
+//! route, except as below.
+//! Where the route starts (or ends) inside one — a tool over a perimeter
+//! (a hand's, or the box it just released into), a target or a resting
+//! spot next to a piece — that obstacle is shrunk until the point is on its boundary: the route
+//! leaves from the tool itself and never goes deeper.
 //!
 //! Shortening ([`taut`]): the classical elastic band for the shortest path
 //! in a homotopy class. For consecutive vertices `a, b, c`, the
-//! configuration-space obstacles reaching into the triangle `abc` are grown
-//! blocked cells whose corners are cell centres (they cannot cross the free
-//! segments `ab`, `bc`, so the part inside the triangle is the hull of their
-//! corners inside it, clipped by `ac`); the shortest way from `a` to `c`
+//! configuration-space obstacles reaching into the triangle `abc` are
+//! rectangles (they cannot cross the free segments `ab`, `bc`, so the part
+//! inside the triangle is the hull of their corners inside it, clipped by
+//! `ac`); the shortest way from `a` to `c`
 //! that deforms `a-b-c` without crossing them is the convex chain around
-//! those corners on `b`'s side (the straight `ac` when there are none). A
-//! grown cell that only touches the triangle from outside does not count. Replacing
+//! those corners on `b`'s side (the straight `ac` when there are none). An
+//! obstacle that only touches the triangle from outside does not count. Replacing
 //! `b` by that chain shortens the path and keeps its homotopy class; at the
 //! fixed point every bend wraps an obstacle corner, and a locally shortest
 //! path among polygonal obstacles is the shortest of its class. Every new
@@ -29,8 +38,8 @@
 
 use crate::grid::StateGrid;
 
-/// Shrink (fraction of a cell) of the grown blocked cells: the footprint may
-/// touch a blocked cell, as the smoothing's check.
+/// Shrink (fraction of a cell) of the configuration-space obstacles: the
+/// footprint may touch a perimeter, as the smoothing's check.
 const SHRINK: f64 = 1e-6;
 
 /// Upper bound on the splices of one [`taut`] call, per vertex of its input
@@ -40,30 +49,161 @@ const SPLICES_PER_VERTEX: usize = 64;
 
 type Point = [f64; 2];
 
-/// The footprint swept from `a` to `b` (pixels) stays on the grid and
-/// overlaps no blocked cell. `a == b` checks the footprint at one point.
-pub fn segment_is_free(grid: &StateGrid, a: Point, b: Point) -> bool {
-    let half = [0, 1].map(|k| grid.cell_size[k] * (0.5 - SHRINK));
-    let lo = [0, 1].map(|k| grid.origin[k] + half[k]);
-    let hi = [0, 1].map(|k| grid.origin[k] + grid_extent(grid, k) - half[k]);
-    let on_grid = |p: Point| (0..2).all(|k| p[k] >= lo[k] && p[k] <= hi[k]);
-    if !on_grid(a) || !on_grid(b) {
-        return false;
-    }
-    let reach = [0, 1].map(|k| grid.cell_size[k] * (1.0 - SHRINK));
-    let (r0, c0) = grid.cell_at([a[0].min(b[0]) - reach[0], a[1].min(b[1]) - reach[1]]);
-    let (r1, c1) = grid.cell_at([a[0].max(b[0]) + reach[0], a[1].max(b[1]) + reach[1]]);
-    (r0..=r1).all(|r| {
-        (c0..=c1).all(|c| {
-            if !grid.code((r, c)).is_blocked() {
-                return true;
+/// An open axis-aligned box, pixels: `lo < p < hi` on both axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Open {
+    lo: Point,
+    hi: Point,
+}
+
+/// Where the tool's point may go: inside `lo..=hi` (the footprint on the
+/// grid) and outside every configuration-space obstacle.
+#[derive(Debug, Clone, PartialEq)]
+struct FreeSpace {
+    lo: Point,
+    hi: Point,
+    /// Grown by exactly half the footprint; their corners are where the
+    /// band may bend.
+    obstacles: Vec<Open>,
+    /// How much smaller (pixels) than `obstacles` the boxes are that a free
+    /// segment must not cross: the footprint may touch a perimeter.
+    shrink: Point,
+}
+
+impl FreeSpace {
+    /// The free space of `grid` near the pixel window `window` (`None`: the
+    /// whole grid). The forbidden footprint positions are the painted
+    /// perimeters ([`StateGrid::perimeters`]) plus every blocked cell no
+    /// perimeter explains or that a collision check blocked
+    /// ([`StateGrid::checked`]), each grown by half the footprint.
+    fn of(grid: &StateGrid, window: Option<[Point; 2]>) -> Self {
+        let shrink = [0, 1].map(|k| grid.cell_size[k] * SHRINK);
+        let half = [0, 1].map(|k| grid.cell_size[k] * 0.5);
+        let lo = [0, 1].map(|k| grid.origin[k] + half[k] - shrink[k]);
+        let hi = [0, 1].map(|k| grid.origin[k] + grid_extent(grid, k) - half[k] + shrink[k]);
+        let mut explained = vec![false; grid.len()];
+        let mut pieces: Vec<Open> = Vec::new();
+        for b in &grid.perimeters {
+            pieces.push(Open {
+                lo: [b.u, b.v],
+                hi: [b.u + b.w, b.v + b.l],
+            });
+            if let (Some((r0, r1)), Some((c0, c1))) =
+                (grid.span(b.v, b.l, 1), grid.span(b.u, b.w, 0))
+            {
+                for cell in (r0..=r1).flat_map(|r| (c0..=c1).map(move |c| (r, c))) {
+                    explained[grid.index(cell)] = true;
+                }
             }
-            let centre = grid.centre((r, c));
-            let lo = [0, 1].map(|k| centre[k] - reach[k]);
-            let hi = [0, 1].map(|k| centre[k] + reach[k]);
-            !crosses_open_box(a, b, lo, hi)
-        })
-    })
+        }
+        pieces.extend(
+            (0..grid.len())
+                .map(|i| grid.cell(i))
+                .filter(|&c| grid.code(c).is_blocked())
+                .filter(|c| !explained[grid.index(*c)] || grid.checked.contains(c))
+                .map(|c| cell_box(grid, c)),
+        );
+        let obstacles = pieces
+            .into_iter()
+            .map(|p| Open {
+                lo: [0, 1].map(|k| p.lo[k] - half[k]),
+                hi: [0, 1].map(|k| p.hi[k] + half[k]),
+            })
+            .filter(|o| {
+                window.is_none_or(|[wl, wh]| (0..2).all(|k| o.lo[k] < wh[k] && o.hi[k] > wl[k]))
+            })
+            .collect();
+        Self {
+            lo,
+            hi,
+            obstacles,
+            shrink,
+        }
+    }
+
+    /// The same space where the route may leave from (or arrive at) the
+    /// points `ends`: an obstacle holding one is shrunk until the point lies
+    /// on its boundary (the footprint never goes deeper into a perimeter
+    /// than it is there), and the grid's bounds widen to hold it.
+    fn leaving(mut self, ends: &[Point]) -> Self {
+        for e in ends {
+            for o in &mut self.obstacles {
+                if (0..2).all(|k| e[k] > o.lo[k] && e[k] < o.hi[k]) {
+                    let depth = (0..2)
+                        .map(|k| (e[k] - o.lo[k]).min(o.hi[k] - e[k]))
+                        .fold(f64::INFINITY, f64::min);
+                    o.lo = o.lo.map(|x| x + depth);
+                    o.hi = o.hi.map(|x| x - depth);
+                }
+            }
+            self.lo = [0, 1].map(|k| self.lo[k].min(e[k]));
+            self.hi = [0, 1].map(|k| self.hi[k].max(e[k]));
+        }
+        self
+    }
+
+    /// The footprint swept from `a` to `b` stays in this space.
+    fn segment_is_free(&self, a: Point, b: Point) -> bool {
+        let inside = |p: Point| (0..2).all(|k| p[k] >= self.lo[k] && p[k] <= self.hi[k]);
+        inside(a) && inside(b) && !self.obstacles.iter().any(|o| self.crosses(a, b, o))
+    }
+
+    /// The segment `a`–`b` enters the obstacle `o` (shrunk by `shrink`).
+    fn crosses(&self, a: Point, b: Point, o: &Open) -> bool {
+        let (lo, hi) = self.shrunk(o);
+        crosses_open_box(a, b, lo, hi)
+    }
+
+    fn shrunk(&self, o: &Open) -> (Point, Point) {
+        (
+            [0, 1].map(|k| o.lo[k] + self.shrink[k]),
+            [0, 1].map(|k| o.hi[k] - self.shrink[k]),
+        )
+    }
+
+    /// The corners of every obstacle whose interior reaches into the
+    /// triangle's and that lie in it (`inside`), without `a` and `c`: only
+    /// those can hold the band (an obstacle that merely touches an edge from
+    /// outside cannot).
+    fn corners_in(&self, [a, b, c]: [Point; 3], inside: impl Fn(Point) -> bool) -> Vec<Point> {
+        let mut points: Vec<Point> = Vec::new();
+        for o in &self.obstacles {
+            let (lo, hi) = self.shrunk(o);
+            if !box_meets_triangle([[lo[0], hi[0]], [lo[1], hi[1]]], [a, b, c]) {
+                continue;
+            }
+            for p in [o.lo, [o.hi[0], o.lo[1]], o.hi, [o.lo[0], o.hi[1]]] {
+                if inside(p) && p != a && p != c && !points.contains(&p) {
+                    points.push(p);
+                }
+            }
+        }
+        points
+    }
+}
+
+/// The closed pixel box of a cell.
+fn cell_box(grid: &StateGrid, (r, c): (usize, usize)) -> Open {
+    let lo = [
+        grid.origin[0] + c as f64 * grid.cell_size[0],
+        grid.origin[1] + r as f64 * grid.cell_size[1],
+    ];
+    Open {
+        lo,
+        hi: [lo[0] + grid.cell_size[0], lo[1] + grid.cell_size[1]],
+    }
+}
+
+/// The footprint swept from `a` to `b` (pixels) stays on the grid and keeps
+/// off every perimeter and every blocked cell no perimeter explains (see
+/// [`FreeSpace::of`]). `a ==
+/// b` checks the footprint at one point.
+pub fn segment_is_free(grid: &StateGrid, a: Point, b: Point) -> bool {
+    let window = [
+        [a[0].min(b[0]), a[1].min(b[1])],
+        [a[0].max(b[0]), a[1].max(b[1])],
+    ];
+    FreeSpace::of(grid, Some(window)).segment_is_free(a, b)
 }
 
 /// The segment `a`–`b` meets the open box `(lo, hi)` (Liang–Barsky): a
@@ -100,38 +240,45 @@ fn grid_extent(grid: &StateGrid, k: usize) -> f64 {
 /// split it: each free run is pulled taut on its own and the others are
 /// kept as they are.
 pub fn taut(grid: &StateGrid, points: &[Point]) -> Vec<Point> {
+    let ends: Vec<Point> = points
+        .first()
+        .into_iter()
+        .chain(points.last())
+        .copied()
+        .collect();
+    let space = FreeSpace::of(grid, None).leaving(&ends);
     let mut out: Vec<Point> = Vec::with_capacity(points.len());
     let mut run: Vec<Point> = Vec::new();
     for &p in points {
         match run.last() {
             Some(&last) if last == p => continue,
-            Some(&last) if !segment_is_free(grid, last, p) => {
-                flush(grid, &mut run, &mut out);
+            Some(&last) if !space.segment_is_free(last, p) => {
+                flush(&space, &mut run, &mut out);
                 run.push(last);
             }
             _ => {}
         }
         run.push(p);
     }
-    flush(grid, &mut run, &mut out);
+    flush(&space, &mut run, &mut out);
     out
 }
 
 /// Appends the taut form of `run` to `out` (without repeating the junction
 /// point) and empties `run`.
-fn flush(grid: &StateGrid, run: &mut Vec<Point>, out: &mut Vec<Point>) {
-    let pulled = pull(grid, std::mem::take(run));
+fn flush(space: &FreeSpace, run: &mut Vec<Point>, out: &mut Vec<Point>) {
+    let pulled = pull(space, std::mem::take(run));
     let skip = usize::from(out.last().is_some_and(|&l| Some(&l) == pulled.first()));
     out.extend(pulled.into_iter().skip(skip));
 }
 
 /// The elastic band on one run of free segments.
-fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
+fn pull(space: &FreeSpace, mut path: Vec<Point>) -> Vec<Point> {
     let mut budget = SPLICES_PER_VERTEX * path.len().max(1);
     let mut i = 1;
     while i + 1 < path.len() && budget > 0 {
         let (a, b, c) = (path[i - 1], path[i], path[i + 1]);
-        let chain = wrap(grid, a, b, c);
+        let chain = wrap(space, a, b, c);
         let (after, before) = (
             polyline_length(a, &chain, c),
             distance(a, b) + distance(b, c),
@@ -141,7 +288,7 @@ fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
         let free = || {
             let mut prev = a;
             chain.iter().chain([&c]).all(|&p| {
-                let ok = segment_is_free(grid, prev, p);
+                let ok = space.segment_is_free(prev, p);
                 prev = p;
                 ok
             })
@@ -158,9 +305,9 @@ fn pull(grid: &StateGrid, mut path: Vec<Point>) -> Vec<Point> {
 }
 
 /// The vertices strictly between `a` and `c` of the convex chain around the
-/// obstacle centres inside the triangle `abc`, on `b`'s side (empty: the
+/// obstacle corners inside the triangle `abc`, on `b`'s side (empty: the
 /// straight `ac` deforms `a-b-c` without crossing an obstacle).
-fn wrap(grid: &StateGrid, a: Point, b: Point, c: Point) -> Vec<Point> {
+fn wrap(space: &FreeSpace, a: Point, b: Point, c: Point) -> Vec<Point> {
     let side = cross(a, c, b);
     let scale = distance(a, c).max(distance(a, b)).max(1.0);
     if side.abs() <= 1e-12 * scale * scale {
@@ -174,38 +321,7 @@ fn wrap(grid: &StateGrid, a: Point, b: Point, c: Point) -> Vec<Point> {
             .iter()
             .all(|&x| -sign * x >= -tol)
     };
-    let reach = [0, 1].map(|k| grid.cell_size[k] * (1.0 - SHRINK));
-    let lo = [0, 1].map(|k| a[k].min(b[k]).min(c[k]) - reach[k]);
-    let hi = [0, 1].map(|k| a[k].max(b[k]).max(c[k]) + reach[k]);
-    let (r0, c0) = grid.cell_at(lo);
-    let (r1, c1) = grid.cell_at(hi);
-    // The corners of every grown blocked cell whose interior reaches into
-    // the triangle's: only those can hold the band (a cell that merely
-    // touches an edge from outside cannot).
-    let mut points: Vec<Point> = Vec::new();
-    for r in r0..=r1 {
-        for col in c0..=c1 {
-            if !grid.code((r, col)).is_blocked() {
-                continue;
-            }
-            let centre = grid.centre((r, col));
-            let shrunk = [0, 1].map(|k| [centre[k] - reach[k], centre[k] + reach[k]]);
-            if !box_meets_triangle(shrunk, [a, b, c]) {
-                continue;
-            }
-            for du in [-1.0, 1.0] {
-                for dv in [-1.0, 1.0] {
-                    let p = [
-                        centre[0] + du * grid.cell_size[0],
-                        centre[1] + dv * grid.cell_size[1],
-                    ];
-                    if inside(p) && p != a && p != c && !points.contains(&p) {
-                        points.push(p);
-                    }
-                }
-            }
-        }
-    }
+    let mut points = space.corners_in([a, b, c], inside);
     // Gift wrapping from a to c: each next vertex leaves every remaining
     // point on the far side from b (the chain bulges towards b).
     let mut chain = Vec::new();
@@ -288,6 +404,7 @@ fn cross(a: Point, b: Point, p: Point) -> f64 {
 pub(crate) mod tests {
     use super::*;
     use crate::grid::CellCode;
+    use crate::scenario::PixelBox;
 
     /// A grid from rows of characters: `#` obstacle, `T` target, `G` goal,
     /// anything else empty; the gripper starts in cell (0, 0).
@@ -396,6 +513,80 @@ pub(crate) mod tests {
         let route = taut(&g, &centres(&g, &cells));
         assert_eq!(route, vec![[3.5, 7.5], [3.5, 4.5], [0.5, 3.5], [0.5, 0.5]]);
         assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
+    }
+
+    /// Samples every `1/n` of each segment: the footprint (a `half`-sized
+    /// half-width square) at each sample never overlaps the open box
+    /// `(lo, hi)` by more than `depth` — an independent check of the route.
+    fn deepest_into(route: &[Point], lo: Point, hi: Point, half: f64) -> f64 {
+        let n = 200;
+        route
+            .windows(2)
+            .flat_map(|w| {
+                (0..=n).map(move |i| {
+                    let t = i as f64 / n as f64;
+                    [0, 1].map(|k| w[0][k] + t * (w[1][k] - w[0][k]))
+                })
+            })
+            .map(|p| {
+                (0..2)
+                    .map(|k| (p[k] + half - lo[k]).min(hi[k] - (p[k] - half)))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    /// A perimeter that covers only part of its cell: the route keeps the
+    /// footprint off the perimeter itself, not off the whole cell (campaign
+    /// scene 56: cells 77 × 67 px kept the route 55 px further out than the
+    /// perimeter needed).
+    #[test]
+    fn route_keeps_off_the_perimeter_not_the_whole_cell() {
+        let mut g = grid(&["T..", ".#.", "..."]);
+        let perimeter = PixelBox {
+            u: 1.0,
+            v: 1.0,
+            w: 0.2,
+            l: 1.0,
+        };
+        let cells = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2)];
+        let by_cells = taut(&g, &centres(&g, &cells));
+        g.perimeters.push(perimeter);
+        let route = taut(&g, &centres(&g, &cells));
+        assert_eq!(by_cells, centres(&g, &[(0, 0), (0, 2), (2, 2)]));
+        assert_eq!(route.len(), 3, "{route:?}");
+        assert!((route[1][0] - 1.7).abs() < 1e-9 && (route[1][1] - 0.5).abs() < 1e-9);
+        assert!(path_length(&route) < path_length(&by_cells) - 0.5);
+        let depth = deepest_into(&route, [1.0, 1.0], [1.2, 2.0], 0.5);
+        assert!(
+            depth <= 1e-5,
+            "the footprint enters the perimeter by {depth}"
+        );
+    }
+
+    /// A tool that starts inside a perimeter (a hand's, which the grid never
+    /// clears) leaves it without going deeper, straight from where it is
+    /// rather than through its cell's centre (campaign scene 7).
+    #[test]
+    fn route_leaves_a_perimeter_it_starts_in_never_deeper() {
+        let mut g = grid(&[".#..", ".#..", "...T"]);
+        g.perimeters.push(PixelBox {
+            u: 1.0,
+            v: 0.0,
+            w: 1.0,
+            l: 2.0,
+        });
+        let start = [0.7, 0.5];
+        let mut points = vec![start];
+        points.extend(centres(&g, &[(1, 0), (2, 0), (2, 1), (2, 2), (2, 3)]));
+        let route = taut(&g, &points);
+        assert_eq!(route[0], start);
+        assert_eq!(route.len(), 3, "{route:?}");
+        // Grown by half the footprint the perimeter spans u 0.5..2.5: the
+        // start is 0.2 inside, and no point of the route is deeper.
+        let depth = deepest_into(&route, [1.0, 0.0], [2.0, 2.0], 0.5);
+        assert!(depth <= 0.2 + 1e-9, "{depth}");
+        assert!(path_length(&route) < path_length(&points) - 0.3);
     }
 
     #[test]
