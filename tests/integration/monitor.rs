@@ -316,3 +316,20 @@ fn monitor_bench_replays_every_perturbed_execution_physically() {
     assert_eq!(count("physics_failures"), 0, "{json:#}");
     assert_eq!(count("check_failures"), 0, "{json:#}");
 }
+
+/// Bench scenes 7 and 18 (seed 1): a goal moved while the arm ran into
+/// the grasp. Braking ended past the close's start, so the robot closed
+/// the gripper, but the replan from that rest did not count the close
+/// (the close had not played yet) and closed it again: the executed
+/// sub-goal read close, close, open, and the independent check refused it.
+#[test]
+fn replan_while_braking_past_the_close_grasps_once() {
+    let result = afford(&["bench", "monitor", "--scenes", "19", "--json"]);
+    result.assert_code(0).assert_no_panic();
+    let json = result.json();
+    assert!(
+        json["relevant"].as_u64().expect("relevant") > 100,
+        "{json:#}"
+    );
+    assert_eq!(json["check_failures"], 0, "{:#}", json["check_findings"]);
+}

@@ -88,7 +88,14 @@ impl Monitor {
 
     /// One interval of the plan (or one controller period at rest).
     pub(super) fn tick(&mut self) {
-        if self.cursor.sigma <= 0.0 {
+        // A gripper event under way at the cursor is played before a
+        // pending plan is taken over (the replan counted it: `rest_state`).
+        let at_event = self
+            .motion()
+            .gripper
+            .iter()
+            .any(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start);
+        if self.cursor.sigma <= 0.0 && !at_event {
             if let Some(Pending::AtRest(_)) = &self.pending {
                 let Some(Pending::AtRest(plan)) = self.pending.take() else {
                     unreachable!("matched above")
@@ -142,7 +149,12 @@ impl Monitor {
         if event.command == GripperCommand::Close {
             self.held = Some(self.grasp_record(motion, event.start));
         }
-        self.cursor = Cursor::at(index, motion.points[index].time_from_start, 1.0);
+        // The arm rests at the event's end: a pending plan takes over there.
+        let sigma = match self.pending {
+            Some(Pending::AtRest(_)) => 0.0,
+            _ => 1.0,
+        };
+        self.cursor = Cursor::at(index, motion.points[index].time_from_start, sigma);
     }
 
     /// What the robot knows of the object it closes on at plan time `s`.
@@ -303,10 +315,17 @@ impl Monitor {
         let mut joints = self.joints.clone();
         self.current_arm()
             .insert(&mut joints, &planned_position(&motion.points, stop.s));
-        let held = self
-            .held
-            .clone()
-            .filter(|_| self.tracks[self.current].holding(stop.s));
+        // The robot plays every gripper event it reaches before it rests
+        // (`tick`), so it holds at rest when the stop is at or after the
+        // close's start and before the open's start.
+        let track = &self.tracks[self.current];
+        let holds = (track.starts_holding || stop.s >= track.close.0 - 1e-9)
+            && stop.s < track.open.0 - 1e-9;
+        let held = holds.then(|| {
+            self.held
+                .clone()
+                .unwrap_or_else(|| self.grasp_record(motion, track.close.0))
+        });
         let goals = self.goals_from(self.current);
         (MidExecution { joints, held }, goals, self.scene.clone())
     }
