@@ -439,15 +439,32 @@ mod tests {
         assert_eq!(prev, to);
     }
 
+    /// A transit of the iiwa's arm under the sampled edge test.
+    fn sampled_transit(
+        robot: &RobotModel,
+        from: &[f64],
+        to: &[f64],
+        settings: &TransitSettings,
+        seed: u64,
+    ) -> Result<Transit, TransitError> {
+        plan_transit(
+            &robot.arms()[0],
+            from,
+            to,
+            &mut sampled_edge,
+            settings,
+            seed,
+        )
+    }
+
     #[test]
     fn transit_goes_around_when_the_straight_move_collides() {
         let (robot, from, to) = iiwa_ends();
         let settings = TransitSettings::default();
-        let arm = &robot.arms()[0];
-        let transit = plan_transit(arm, &from, &to, &mut sampled_edge, &settings, 7).expect("path");
+        let transit = sampled_transit(&robot, &from, &to, &settings, 7).expect("path");
         assert!(matches!(transit.kind, TransitKind::Planned { .. }));
         assert_free_steps(&transit, &from, &to, settings.max_step);
-        let again = plan_transit(arm, &from, &to, &mut sampled_edge, &settings, 7).expect("path");
+        let again = sampled_transit(&robot, &from, &to, &settings, 7).expect("path");
         assert_eq!(transit, again, "same seed, same transit");
     }
 
@@ -462,15 +479,7 @@ mod tests {
             ..TransitSettings::default()
         };
         for seed in 0..20 {
-            let transit = plan_transit(
-                &robot.arms()[0],
-                &from,
-                &to,
-                &mut sampled_edge,
-                &settings,
-                seed,
-            )
-            .expect("path");
+            let transit = sampled_transit(&robot, &from, &to, &settings, seed).expect("path");
             assert_free_steps(&transit, &from, &to, settings.max_step);
         }
     }
@@ -480,15 +489,7 @@ mod tests {
         let (robot, from, mut to) = iiwa_ends();
         to[0] = -0.5;
         let settings = TransitSettings::default();
-        let transit = plan_transit(
-            &robot.arms()[0],
-            &from,
-            &to,
-            &mut sampled_edge,
-            &settings,
-            1,
-        )
-        .expect("path");
+        let transit = sampled_transit(&robot, &from, &to, &settings, 1).expect("path");
         assert_eq!(transit.kind, TransitKind::Straight);
         assert_eq!(transit.path, joint_steps(&from, &to, settings.max_step));
     }
