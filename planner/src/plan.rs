@@ -961,8 +961,9 @@ impl Planner {
         .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?
         {
             let mut replan = Replan::of(hit, offset, scene, task, &motion, &arm.name);
-            replan.lowered = motion.carry_height
-                < carry_height(scene, request.object, &self.options.lift) - 1e-9;
+            replan.lowered = motion.eased
+                || motion.carry_height
+                    < carry_height(scene, request.object, &self.options.lift) - 1e-9;
             return Ok(ArmMotionOutcome::Collides(Box::new(replan)));
         }
         Ok(ArmMotionOutcome::Free(PlannedPath {
@@ -1141,7 +1142,8 @@ struct Replan {
     /// The hit is where the hand closes or opens on the object (approach,
     /// grasp, lift, release): turning the tool may avoid it.
     at_grasp: bool,
-    /// The motion carried lower than the full height (the route's height).
+    /// The motion carried lower than the full height (the route's height)
+    /// or eased its turns over the target: the full-height fallback differs.
     lowered: bool,
 }
 

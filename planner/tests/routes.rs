@@ -153,5 +153,8 @@ fn route_turns_onto_the_vertical_moves_without_a_corner() {
         let (d, u) = (sharpest_turn(&down), sharpest_turn(&up));
         eprintln!("sub-goal {k}: sharpest turn down {d:.1}°, up {u:.1}°");
         assert!(d < 45.0 && u < 45.0, "sub-goal {k}: {d:.1}°, {u:.1}°");
+        // An eased motion says so: a collision on it is retried with the
+        // full-height motion (right-angle turns) before any cell is blocked.
+        assert!(motion.eased, "sub-goal {k}");
     }
 }

@@ -162,6 +162,10 @@ pub struct LiftedMotion {
     pub waypoints: Vec<ToolWaypoint>,
     /// Carry height above the table top, metres.
     pub carry_height: f64,
+    /// Some travel or carry waypoint is below the carry height (an eased
+    /// turn over the target): the full-height fallback differs from it.
+    #[serde(skip)]
+    pub eased: bool,
 }
 
 impl LiftedMotion {
@@ -324,9 +328,14 @@ pub fn lift(
     }
     out.push(point(drop_px, release, Phase::Release, true));
     out.push(point(drop_px, carry_height, Phase::Retreat, false));
+    let eased = travel
+        .iter()
+        .chain(&carry)
+        .any(|&(_, z)| z < carry_height - 1e-9);
     Ok(LiftedMotion {
         waypoints: densify(&out, settings.max_step),
         carry_height,
+        eased,
     })
 }
 
