@@ -1,28 +1,16 @@
 //! One Contextual Q-learning solve (task set-up + training + greedy rollout)
 //! on generated scenes of 10×10, 20×20, 40×40 and 80×80 cells.
 
+use afford_planner::bench::cql::first_grid;
 use afford_planner::bench::generator::scene_of_size;
-use afford_planner::grid::{GridRequest, StateGrid};
+use afford_planner::grid::StateGrid;
 use afford_planner::{ContextualQLearner, GridTask, LearnerSettings, oracle};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 
 /// The first solvable scene of the series at this size.
 fn solvable_grid(side: usize) -> StateGrid {
     (0..)
-        .map(|index| {
-            let scene = scene_of_size(7, index, side, side);
-            StateGrid::build(
-                &scene,
-                GridRequest {
-                    object: 0,
-                    goal: 0,
-                    gripper: scene
-                        .robot
-                        .start
-                        .expect("generated scenes give robot.start"),
-                },
-            )
-        })
+        .map(|index| first_grid(&scene_of_size(7, index, side, side)))
         .find(|grid| oracle::optimal_length(&GridTask::new(grid.clone())).is_some())
         .expect("the series has solvable scenes")
 }

@@ -42,16 +42,8 @@ fn table(name: &str) -> Option<Outcome> {
             ("blue-square-2", L),
             ("blue-square-3", L),
         ]),
-        "extra-pieces.yaml" => plans(&[
-            ("red-square-1", R),
-            ("red-square-2", R),
-            ("red-square-3", R),
-            ("blue-square-1", L),
-            ("blue-square-2", L),
-            ("blue-square-3", L),
-        ]),
-        // Issue 9: planned transits and IK branches plan all six (was five).
-        "cob4-extra-pieces.yaml" => plans(&[
+        // The Care-O-bot plans all six since the issue-9 transits and IK branches.
+        "extra-pieces.yaml" | "cob4-extra-pieces.yaml" => plans(&[
             ("red-square-1", R),
             ("red-square-2", R),
             ("red-square-3", R),

@@ -137,6 +137,13 @@ pub fn run(config: &CqlBenchConfig, mut progress: impl FnMut(usize)) -> CqlBench
 /// into the one goal, the gripper at `robot.start`.
 pub fn generated_grid(seed: u64, index: usize) -> (Scenario, StateGrid) {
     let scene = generator::scene(seed, index);
+    let grid = first_grid(&scene);
+    (scene, grid)
+}
+
+/// The grid of a generated scene (its one object into its one goal, the
+/// gripper at `robot.start`, which the generator always gives).
+pub fn first_grid(scene: &Scenario) -> StateGrid {
     let request = GridRequest {
         object: 0,
         goal: 0,
@@ -145,8 +152,7 @@ pub fn generated_grid(seed: u64, index: usize) -> (Scenario, StateGrid) {
             .start
             .expect("generated scenes give robot.start"),
     };
-    let grid = StateGrid::build(&scene, request);
-    (scene, grid)
+    StateGrid::build(scene, request)
 }
 
 /// The learners' seed on scene `index` of the series `seed`.
