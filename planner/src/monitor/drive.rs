@@ -90,12 +90,7 @@ impl Monitor {
     pub(super) fn tick(&mut self) {
         // A gripper event under way at the cursor is played before a
         // pending plan is taken over (the replan counted it: `rest_state`).
-        let at_event = self
-            .motion()
-            .gripper
-            .iter()
-            .any(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start);
-        if self.cursor.sigma <= 0.0 && !at_event {
+        if self.cursor.sigma <= 0.0 && self.event_at_cursor().is_none() {
             if let Some(Pending::AtRest(_)) = &self.pending {
                 let Some(Pending::AtRest(plan)) = self.pending.take() else {
                     unreachable!("matched above")
@@ -108,12 +103,8 @@ impl Monitor {
             }
         }
         let motion = self.motion().clone();
-        if let Some(event) = motion
-            .gripper
-            .iter()
-            .find(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start)
-        {
-            self.play_gripper(&motion, *event);
+        if let Some(event) = self.event_at_cursor() {
+            self.play_gripper(&motion, event);
         } else {
             let limits = arm_limits(&self.robot, self.current_arm());
             let step = execute::step(&motion, &limits, &self.cursor, self.command, self.dt);
@@ -124,6 +115,15 @@ impl Monitor {
         if self.cursor.index + 1 >= motion.points.len() {
             self.end_subgoal();
         }
+    }
+
+    /// The gripper event of the sub-goal under way that starts at the cursor.
+    fn event_at_cursor(&self) -> Option<GripperEvent> {
+        self.motion()
+            .gripper
+            .iter()
+            .find(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start)
+            .copied()
     }
 
     /// The arm rests while the gripper acts: the planned rest is played
