@@ -6,7 +6,9 @@
 //! after the release: the object lies where it dropped), placement — and
 //! then the world moves on: the object rests where it dropped, the arm
 //! where its trajectory ended. A sub-goal whose samples or gripper events
-//! cannot be read ends the check (what follows it is unknown).
+//! cannot be read ends the check (what follows it is unknown), and so does
+//! one cut short (an executed run's abort): its phases end where it
+//! stopped, and no sub-goal may follow it.
 
 use afford_kinematics::RobotModel;
 use afford_planner::Scenario;
@@ -106,6 +108,10 @@ pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> R
     };
     for (k, sub) in plan.subgoals.iter().enumerate() {
         if !subgoal(scenario, &r, &mut world, k, sub, &mut report) {
+            if sub.cut_short && k + 1 < plan.subgoals.len() {
+                let message = "the execution stopped for good in this sub-goal (`cut_short`), yet sub-goals follow it".into();
+                report.push(C::Format, Some(k), message);
+            }
             break;
         }
     }
@@ -225,10 +231,7 @@ fn subgoal(
         );
     }
     let events = format::events(sub);
-    let windows = match &events {
-        Ok(e) => vec![e.close, e.open],
-        Err(_) => Vec::new(),
-    };
+    let windows = events.as_ref().map_or_else(|_| Vec::new(), Events::windows);
     let joints = ArmJoints {
         joints: arm
             .joint_indices
@@ -269,29 +272,31 @@ fn subgoal(
     }
     let target = checked.target;
     let piece = world.pieces[target].clone();
-    let grasp_tool = tools[events.close_sample];
-    let width = placement::width_across_fingers(&piece, &grasp_tool);
-    let opening = r.model.gripper().max_opening;
-    if width > opening + placement::PLACEMENT_TOLERANCE {
-        report.push(
-            C::GripperOpening,
-            Some(k),
-            format!(
-                "{} is {width:.4} m wide across the fingers (the tool's y axis at the close, t = {:.3} s, sample {}), but the gripper opens {opening:.4} m",
-                piece.name, events.close.0, events.close_sample
-            ),
-        );
-    }
-    let rel = grasp_tool.inverse() * piece.pose;
-    let released_pose = placement::dropped(
-        &(tools[events.open_sample] * rel),
-        &piece.half,
-        s.camera.table_z + GOAL_WALL,
-    );
-    let released = Piece {
-        pose: released_pose,
+    // The object's pose in the tool frame from the grasp on.
+    let rel = events.close.map(|close| {
+        let grasp_tool = tools[close.sample];
+        let width = placement::width_across_fingers(&piece, &grasp_tool);
+        let opening = r.model.gripper().max_opening;
+        if width > opening + placement::PLACEMENT_TOLERANCE {
+            report.push(
+                C::GripperOpening,
+                Some(k),
+                format!(
+                    "{} is {width:.4} m wide across the fingers (the tool's y axis at the close, t = {:.3} s, sample {}), but the gripper opens {opening:.4} m",
+                    piece.name, close.window.0, close.sample
+                ),
+            );
+        }
+        grasp_tool.inverse() * piece.pose
+    });
+    let released = rel.zip(events.open).map(|(rel, open)| Piece {
+        pose: placement::dropped(
+            &(tools[open.sample] * rel),
+            &piece.half,
+            s.camera.table_z + GOAL_WALL,
+        ),
         ..piece.clone()
-    };
+    });
     let phases = Phases {
         s,
         r,
@@ -302,24 +307,26 @@ fn subgoal(
         goal: checked.goal,
         events,
         rel,
-        released: &released,
+        released: released.as_ref(),
     };
     if let Err(m) = phases.run(report, k) {
         report.push(C::Format, Some(k), m);
     }
-    let others: Vec<&Piece> = world
-        .pieces
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != target)
-        .map(|(_, p)| p)
-        .collect();
-    for m in placement::check(s, checked.goal, &released, &others) {
-        report.push(C::Placement, Some(k), m);
+    if let Some(released) = released {
+        let others: Vec<&Piece> = world
+            .pieces
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != target)
+            .map(|(_, p)| p)
+            .collect();
+        for m in placement::check(s, checked.goal, &released, &others) {
+            report.push(C::Placement, Some(k), m);
+        }
+        world.pieces[target] = released;
     }
-    world.pieces[target] = released;
     world.q = configurations[configurations.len() - 1].clone();
-    true
+    !sub.cut_short
 }
 
 /// The three phases of the dense collision check of one sub-goal.
@@ -332,9 +339,10 @@ struct Phases<'a> {
     target: usize,
     goal: usize,
     events: Events,
-    /// The held object's pose in the tool frame.
-    rel: crate::chain::Iso,
-    released: &'a Piece,
+    /// The held object's pose in the tool frame (from the close on).
+    rel: Option<crate::chain::Iso>,
+    /// Where it dropped (after the open).
+    released: Option<&'a Piece>,
 }
 
 impl Phases<'_> {
@@ -350,24 +358,33 @@ impl Phases<'_> {
         let after: Vec<Obstacle> = scene
             .iter()
             .cloned()
-            .chain([Obstacle::piece(self.released, 0.0, Role::Released)])
+            .chain(
+                self.released
+                    .map(|p| Obstacle::piece(p, 0.0, Role::Released)),
+            )
             .collect();
         let piece = &self.world.pieces[self.target];
-        let held = body(
-            r.model,
-            &r.kin,
-            format!("held {}", piece.name),
-            r.tool_link(self.arm),
-            piece.shape(),
-            self.rel,
-        );
-        let holding: Vec<Body> = r.bodies.iter().cloned().chain([held]).collect();
+        let held = self.rel.map(|rel| {
+            body(
+                r.model,
+                &r.kin,
+                format!("held {}", piece.name),
+                r.tool_link(self.arm),
+                piece.shape(),
+                rel,
+            )
+        });
+        let holding: Vec<Body> = r.bodies.iter().cloned().chain(held).collect();
+        // A phase runs from an event's sample to the next (the last sample
+        // when the sub-goal was cut short before it).
         let n = self.sub.trajectory.points.len();
-        let (c, o) = (self.events.close_sample, self.events.open_sample);
+        let (close, open) = (self.events.close, self.events.open);
+        let c = close.map_or(n - 1, |e| e.sample);
+        let o = open.map_or(n - 1, |e| e.sample);
         let plans = [
-            (0, c, &before, &r.bodies),
-            (c, o, &scene, &holding),
-            (o, n - 1, &after, &r.bodies),
+            Some((0, c, &before, &r.bodies)),
+            close.map(|_| (c, o, &scene, &holding)),
+            open.map(|_| (o, n - 1, &after, &r.bodies)),
         ];
         let rest = &self.world.q;
         let positions: Vec<&[f64]> = self
@@ -386,6 +403,7 @@ impl Phases<'_> {
             .collect();
         let phases: Vec<Phase> = plans
             .iter()
+            .flatten()
             .map(|&(from, to, obstacles, bodies)| Phase {
                 kin: &r.kin,
                 bodies,

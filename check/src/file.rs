@@ -61,6 +61,12 @@ pub struct SubgoalFile {
     #[serde(deserialize_with = "bounded::<_, _, MAX_JOINTS>")]
     pub joint_names: Vec<String>,
     pub trajectory: TrajectoryFile,
+    /// The execution stopped this sub-goal before its end (`afford run`
+    /// after an abort): its gripper events are a prefix of close, open,
+    /// and its object is placed only if the gripper opened. A sub-goal cut
+    /// short ends the plan.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cut_short: bool,
 }
 
 /// Timed samples (linear in between) and gripper events.
@@ -253,6 +259,7 @@ impl From<&afford_planner::Plan> for PlanFile {
                         .as_ref()
                         .map_or_else(Vec::new, |t| t.gripper.clone()),
                 },
+                cut_short: false,
             })
             .collect();
         Self {

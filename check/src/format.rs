@@ -32,14 +32,31 @@ pub(crate) struct Checked<'a> {
     pub arm: &'a Arm,
 }
 
-/// The gripper events, checked: windows and the samples at their starts.
+/// One gripper event, checked: its window and the sample at its start.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Event {
+    pub window: (f64, f64),
+    pub sample: usize,
+}
+
+/// The gripper events, checked: the close (the grasp) and the open (the
+/// release). Both are there in a whole sub-goal; one cut short has a
+/// prefix of them.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Events {
-    pub close: (f64, f64),
-    pub open: (f64, f64),
-    /// Sample at `close.start` (the grasp) and at `open.start` (the release).
-    pub close_sample: usize,
-    pub open_sample: usize,
+    pub close: Option<Event>,
+    pub open: Option<Event>,
+}
+
+impl Events {
+    /// The events' windows, in order.
+    pub fn windows(&self) -> Vec<(f64, f64)> {
+        [self.close, self.open]
+            .iter()
+            .flatten()
+            .map(|e| e.window)
+            .collect()
+    }
 }
 
 type Found = Vec<(ViolationClass, String)>;
@@ -134,12 +151,18 @@ fn sample(i: usize, p: &Sample, arm: &Arm) -> Result<(), String> {
     Ok(())
 }
 
-/// The gripper events of a well-formed trajectory.
+/// The gripper events of a well-formed trajectory: close then open, or a
+/// prefix of them when the sub-goal was cut short.
 pub(crate) fn events(sub: &SubgoalFile) -> Result<Events, Found> {
     let bad = |m: String| vec![(ViolationClass::GripperEvents, m)];
     let e = &sub.trajectory.gripper;
     let commands: Vec<GripperCommand> = e.iter().map(|e| e.command).collect();
-    if commands != [GripperCommand::Close, GripperCommand::Open] {
+    let whole = [GripperCommand::Close, GripperCommand::Open];
+    let allowed = match sub.cut_short {
+        true => whole.starts_with(&commands),
+        false => commands == whole,
+    };
+    if !allowed {
         let names: Vec<&str> = commands
             .iter()
             .map(|c| match c {
@@ -166,12 +189,13 @@ pub(crate) fn events(sub: &SubgoalFile) -> Result<Events, Found> {
             )));
         }
     }
-    let (close, open) = (&e[0], &e[1]);
-    if close.end > open.start {
-        return Err(bad(format!(
-            "the gripper opens at {:.3} s before it has closed at {:.3} s",
-            open.start, close.end
-        )));
+    if let [close, open] = e.as_slice() {
+        if close.end > open.start {
+            return Err(bad(format!(
+                "the gripper opens at {:.3} s before it has closed at {:.3} s",
+                open.start, close.end
+            )));
+        }
     }
     let sample_at = |k: usize, what: &str, t: f64| {
         points
@@ -179,14 +203,16 @@ pub(crate) fn events(sub: &SubgoalFile) -> Result<Events, Found> {
             .position(|p| (p.time_from_start - t).abs() <= EVENT_TIME_TOLERANCE)
             .ok_or_else(|| bad(format!("gripper[{k}].{what} ({t} s) falls on no sample")))
     };
-    let close_sample = sample_at(0, "start", close.start)?;
-    sample_at(0, "end", close.end)?;
-    let open_sample = sample_at(1, "start", open.start)?;
-    sample_at(1, "end", open.end)?;
+    let mut checked = e.iter().enumerate().map(|(k, ev)| {
+        let sample = sample_at(k, "start", ev.start)?;
+        sample_at(k, "end", ev.end)?;
+        Ok::<_, Found>(Event {
+            window: (ev.start, ev.end),
+            sample,
+        })
+    });
     Ok(Events {
-        close: (close.start, close.end),
-        open: (open.start, open.end),
-        close_sample,
-        open_sample,
+        close: checked.next().transpose()?,
+        open: checked.next().transpose()?,
     })
 }

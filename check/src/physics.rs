@@ -106,27 +106,38 @@ pub fn replay_motions(plan: &PlanFile) -> Result<Vec<ReplayMotion>, String> {
         .collect()
 }
 
+/// A sub-goal cut short grasps only if it closed, and is judged on its
+/// placement only if it opened; holding at its end, it lets go there.
 fn motion(sub: &SubgoalFile) -> Result<ReplayMotion, String> {
-    let event = |command: GripperCommand| {
-        sub.trajectory
-            .gripper
-            .iter()
-            .find(|e| e.command == command)
-            .ok_or_else(|| format!("no {command:?} gripper event").to_lowercase())
-    };
-    let (close, open) = (event(GripperCommand::Close)?, event(GripperCommand::Open)?);
+    let event =
+        |command: GripperCommand| sub.trajectory.gripper.iter().find(|e| e.command == command);
     let points = &sub.trajectory.points;
-    Ok(ReplayMotion {
-        arm: sub.arm.clone(),
-        joint_names: sub.joint_names.clone(),
-        times: points.iter().map(|p| p.time_from_start).collect(),
-        positions: points.iter().map(|p| p.positions.clone()).collect(),
-        grasp: Some(Grasp {
+    let end = points.last().map_or(0.0, |p| p.time_from_start);
+    let grasp = match (event(GripperCommand::Close), event(GripperCommand::Open)) {
+        (Some(close), Some(open)) => Some(Grasp {
             piece: sub.object.clone(),
             goal: Some(sub.goal.clone()),
             t_close: close.end,
             t_open: open.start,
         }),
+        (Some(close), None) if sub.cut_short => Some(Grasp {
+            piece: sub.object.clone(),
+            goal: None,
+            t_close: close.end,
+            t_open: end,
+        }),
+        (None, None) if sub.cut_short => None,
+        (close, _) => {
+            let missing = if close.is_none() { "close" } else { "open" };
+            return Err(format!("no {missing} gripper event"));
+        }
+    };
+    Ok(ReplayMotion {
+        arm: sub.arm.clone(),
+        joint_names: sub.joint_names.clone(),
+        times: points.iter().map(|p| p.time_from_start).collect(),
+        positions: points.iter().map(|p| p.positions.clone()).collect(),
+        grasp,
     })
 }
 

@@ -14,8 +14,9 @@
 //! it came until it left, a moved box or piece at its first place until it
 //! moved and at its new one after, the sub-goal's own object always where
 //! it was grasped. The robot starts where the earlier sub-goals left it. A
-//! sub-goal cut short by an abort has no end scene: it is neither checked
-//! nor replayed.
+//! sub-goal cut short by an abort is checked and replayed as far as it
+//! went (`cut_short`: its gripper events a prefix of close, open), since
+//! its samples went to the robot too.
 
 use afford_check::physics::check_physics_over_time;
 use afford_check::{PlanFile, ViolationClass, check_plan, read_plan};
@@ -39,7 +40,7 @@ pub struct ExecutedFile {
     pub timeline: Vec<(f64, Scenario)>,
 }
 
-/// Every executed sub-goal that ended, as a plan file with its scene.
+/// Every executed sub-goal (ended or cut short), as a plan file with its scene.
 /// `Err` names the sub-goal whose timeline the checker cannot read.
 pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>, String> {
     let mut out = Vec::new();
@@ -134,7 +135,7 @@ pub struct SubgoalReplay {
 pub struct RunReplay {
     /// Every replayed sub-goal passed.
     pub passed: bool,
-    /// One entry per executed sub-goal that ended, in execution order.
+    /// One entry per executed sub-goal (ended or cut short), in execution order.
     pub subgoals: Vec<SubgoalReplay>,
 }
 

@@ -36,7 +36,7 @@ struct RunOutput<'a> {
     /// The executed timeline, one entry per sub-goal begun.
     subgoals: &'a [ExecutedSubgoal],
     events: Vec<EventOut<'a>>,
-    /// The physical replay of every executed sub-goal that ended.
+    /// The physical replay of every executed sub-goal (ended or cut short).
     physics: &'a RunReplay,
 }
 
@@ -167,7 +167,7 @@ fn physics_summary(replayed: &RunReplay) {
     let passed = replayed.subgoals.iter().filter(|s| s.passed).count();
     let in_goal = reports()
         .flat_map(|r| &r.targets)
-        .filter(|t| t.in_goal)
+        .filter(|t| t.goal.is_some() && t.in_goal)
         .count();
     let moved = reports()
         .flat_map(|r| &r.pieces)

@@ -333,3 +333,95 @@ fn replan_while_braking_past_the_close_grasps_once() {
     );
     assert_eq!(json["check_failures"], 0, "{:#}", json["check_findings"]);
 }
+
+/// The run of `example` aborted for `reason` inside its first sub-goal:
+/// the executed sub-goal is marked `cut_short`, holds the gripper events
+/// that played (`gripper`), ends at rest, and was replayed physically.
+fn cut_short(example: &str, reason: &str, gripper: &[&str]) -> Value {
+    let result = afford(&["run", &format!("examples/monitor/{example}")]);
+    result.assert_code(1).assert_no_panic();
+    let json = result.json();
+    assert_eq!(json["outcome"], "aborted", "{example}");
+    assert_eq!(json["reason"]["kind"], reason, "{example}");
+    let subgoals = json["subgoals"].as_array().expect("subgoals");
+    assert_eq!(subgoals.len(), 1, "{example}");
+    let sub = &subgoals[0];
+    assert_eq!(sub["cut_short"], true, "{example}");
+    let events: Vec<&str> = sub["trajectory"]["gripper"]
+        .as_array()
+        .expect("gripper")
+        .iter()
+        .map(|e| e["command"].as_str().expect("command"))
+        .collect();
+    assert_eq!(events, gripper, "{example}");
+    let last = sub["trajectory"]["points"]
+        .as_array()
+        .and_then(|p| p.last())
+        .expect("samples");
+    for field in ["velocities", "accelerations"] {
+        let values = last[field].as_array().expect(field);
+        assert!(values.iter().all(|v| v.as_f64() == Some(0.0)), "{last}");
+    }
+    let physics = &json["physics"];
+    assert_eq!(physics["passed"], true, "{physics:#}");
+    let replay = &physics["subgoals"][0];
+    assert_eq!(replay["failures"].as_array().map(Vec::len), Some(0));
+    assert!(replay["report"]["steps"].as_u64().is_some_and(|n| n > 0));
+    json
+}
+
+/// An abort stops the robot for good inside a sub-goal, and the samples
+/// executed until then went to the robot. They used to be written without
+/// the independent check or the physical replay (the sub-goal had no end
+/// scene); now the sub-goal cut short is checked and replayed as far as it
+/// went, holding the piece (a hand that never leaves) or before any grasp
+/// (the piece taken away).
+#[test]
+fn aborted_subgoal_is_checked_and_replayed_as_far_as_it_went() {
+    let json = cut_short("hand-stays-in-the-way.yaml", "waited_too_long", &["close"]);
+    let verdicts: Vec<&str> = json["events"]
+        .as_array()
+        .expect("events")
+        .iter()
+        .map(|e| e["verdict"].as_str().expect("verdict"))
+        .collect();
+    assert_eq!(verdicts, ["wait", "abort"]);
+    cut_short("piece-taken-away.yaml", "target_gone", &[]);
+}
+
+/// The gate on a sub-goal cut short is the whole check, not a pass: the
+/// run's own output passes `afford check`, but not with one sample moved
+/// (rates recomputed from positions), nor when it claims to be a whole
+/// sub-goal (whole sub-goals close, then open the gripper).
+#[test]
+fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
+    let dir = scratch_dir("cut-short-check");
+    let scenario = "examples/monitor/piece-taken-away.yaml";
+    let run = afford(&["run", scenario]);
+    run.assert_code(1).assert_no_panic();
+    let written = run.json();
+    let check = |json: &Value, name: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, json.to_string()).expect("write");
+        let path = path.to_str().expect("utf-8").to_string();
+        afford(&["check", scenario, &path, "--json"])
+    };
+    check(&written, "as-written.json")
+        .assert_code(0)
+        .assert_no_panic();
+    let mut jumped = written.clone();
+    let points = jumped["subgoals"][0]["trajectory"]["points"]
+        .as_array_mut()
+        .expect("points");
+    let middle = points.len() / 2;
+    let q = &mut points[middle]["positions"][1];
+    *q = Value::from(q.as_f64().expect("position") + 0.05);
+    let found = check(&jumped, "jumped.json");
+    found.assert_code(1).assert_no_panic();
+    assert!(found.stdout.contains("\"velocity\""), "{}", found.stdout);
+    let mut whole = written.clone();
+    whole["subgoals"][0]["cut_short"] = Value::Bool(false);
+    let found = check(&whole, "whole.json");
+    found.assert_code(1).assert_no_panic();
+    assert!(found.stdout.contains("gripper_events"), "{}", found.stdout);
+}

@@ -83,6 +83,7 @@ impl Monitor {
             scene: None,
             scene_at_start: Some(self.scene.clone()),
             changes: Vec::new(),
+            cut_short: false,
         });
     }
 
@@ -98,6 +99,7 @@ impl Monitor {
                 self.adopt(plan);
             }
             if let Some(reason) = self.aborting.clone() {
+                self.cut_subgoal();
                 self.status = Status::Aborted(reason);
                 return;
             }
@@ -208,16 +210,8 @@ impl Monitor {
                 goal: g.goal.clone(),
             });
         }
-        let mut seen = self.scene.clone();
+        let seen = self.scene_seen(&g.object);
         if let Some(e) = self.executed.last_mut() {
-            if let Some(start) = &e.scene_at_start {
-                seen.objects
-                    .retain(|o| o.name == g.object || start.objects.contains(o));
-                seen.hands.retain(|h| start.hands.contains(h));
-            }
-            if let (Some(i), Some(held)) = (seen.object_index(&g.object), &self.held) {
-                seen.objects[i].bbox = held.grasped_box;
-            }
             e.scene = Some(seen);
         }
         put_in_goal(&mut self.scene, &g);
@@ -236,6 +230,59 @@ impl Monitor {
                 self.begin_subgoal();
             }
             None => self.take_new_work(),
+        }
+    }
+
+    /// What the independent check of the sub-goal under way (moving
+    /// `object`) runs against ([`ExecutedSubgoal::scene`]): the scene now,
+    /// less what came while it ran, its object where the gripper took it
+    /// (where it was at the start if it has gone since).
+    fn scene_seen(&self, object: &str) -> crate::Scenario {
+        let mut seen = self.scene.clone();
+        if let Some(start) = self.executed.last().and_then(|e| e.scene_at_start.as_ref()) {
+            seen.objects
+                .retain(|o| o.name == object || start.objects.contains(o));
+            seen.hands.retain(|h| start.hands.contains(h));
+            let gone = start.objects.iter().filter(|o| o.name == object);
+            if seen.object_index(object).is_none() {
+                seen.objects.extend(gone.cloned());
+            }
+        }
+        if let (Some(i), Some(held)) = (seen.object_index(object), &self.held) {
+            seen.objects[i].bbox = held.grasped_box;
+        }
+        seen
+    }
+
+    /// The sub-goal under way stops for good where the robot rests: its
+    /// record keeps what was executed, ending at rest (velocities and
+    /// accelerations 0), marked cut short, with the scene to check it
+    /// against; a record without motion (its first sample only) is dropped.
+    fn cut_subgoal(&mut self) {
+        let last = self
+            .executed
+            .last()
+            .and_then(|e| e.trajectory.points.last());
+        if last.is_some_and(|p| p.accelerations.iter().any(|a| *a != 0.0)) {
+            // Braked this period: one period at rest ends the record at rest.
+            let motion = self.motion().clone();
+            let limits = arm_limits(&self.robot, self.current_arm());
+            let step = execute::step(&motion, &limits, &self.cursor, 0.0, self.dt);
+            self.cursor = step.cursor;
+            self.clock += step.duration;
+            self.record(step.point);
+        }
+        let object = self.plan.subgoals[self.current].object.clone();
+        let seen = self.scene_seen(&object);
+        match self.executed.last_mut() {
+            Some(e) if e.trajectory.points.len() < 2 => {
+                self.executed.pop();
+            }
+            Some(e) => {
+                e.cut_short = true;
+                e.scene = Some(seen);
+            }
+            None => {}
         }
     }
 

@@ -79,6 +79,11 @@ pub struct ExecutedSubgoal {
     /// replay of the sub-goal puts in the world when.
     #[serde(skip)]
     pub changes: Vec<(f64, Scenario)>,
+    /// The execution stopped for good before the sub-goal's end (an abort):
+    /// the robot braked to rest on its path and stays there. Serialised
+    /// only when true.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub cut_short: bool,
 }
 
 /// How the execution stands.
