@@ -189,13 +189,13 @@ pub(crate) fn events(sub: &SubgoalFile) -> Result<Events, Found> {
             )));
         }
     }
-    if let [close, open] = e.as_slice() {
-        if close.end > open.start {
-            return Err(bad(format!(
-                "the gripper opens at {:.3} s before it has closed at {:.3} s",
-                open.start, close.end
-            )));
-        }
+    if let [close, open] = e.as_slice()
+        && close.end > open.start
+    {
+        return Err(bad(format!(
+            "the gripper opens at {:.3} s before it has closed at {:.3} s",
+            open.start, close.end
+        )));
     }
     let sample_at = |k: usize, what: &str, t: f64| {
         points
