@@ -16,13 +16,17 @@ fn run(example: &str) -> (Vec<String>, Value) {
     let result = afford(&["run", &path]);
     result.assert_no_panic();
     let json = result.json();
-    let verdicts = json["events"]
+    (verdicts(&json), json)
+}
+
+/// The verdicts of the event log, in order.
+fn verdicts(json: &Value) -> Vec<String> {
+    json["events"]
         .as_array()
         .expect("events")
         .iter()
         .map(|e| e["verdict"].as_str().expect("verdict").to_string())
-        .collect();
-    (verdicts, json)
+        .collect()
 }
 
 fn reasons(json: &Value) -> Vec<String> {
@@ -41,15 +45,23 @@ fn completed(json: &Value, subgoals: usize) {
         subgoals
     );
     for s in json["subgoals"].as_array().expect("subgoals") {
-        let events: Vec<&str> = s["trajectory"]["gripper"]
-            .as_array()
-            .expect("gripper")
-            .iter()
-            .map(|e| e["command"].as_str().expect("command"))
-            .collect();
-        assert_eq!(events, ["close", "open"], "one grasp per executed sub-goal");
+        assert_eq!(
+            gripper_commands(s),
+            ["close", "open"],
+            "one grasp per executed sub-goal"
+        );
     }
     replayed(json, subgoals);
+}
+
+/// The gripper commands of an executed sub-goal, in order.
+fn gripper_commands(sub: &Value) -> Vec<&str> {
+    sub["trajectory"]["gripper"]
+        .as_array()
+        .expect("gripper")
+        .iter()
+        .map(|e| e["command"].as_str().expect("command"))
+        .collect()
 }
 
 /// The output's physical replay passed: one replay per executed sub-goal,
@@ -347,13 +359,7 @@ fn cut_short(example: &str, reason: &str, gripper: &[&str]) -> Value {
     assert_eq!(subgoals.len(), 1, "{example}");
     let sub = &subgoals[0];
     assert_eq!(sub["cut_short"], true, "{example}");
-    let events: Vec<&str> = sub["trajectory"]["gripper"]
-        .as_array()
-        .expect("gripper")
-        .iter()
-        .map(|e| e["command"].as_str().expect("command"))
-        .collect();
-    assert_eq!(events, gripper, "{example}");
+    assert_eq!(gripper_commands(sub), gripper, "{example}");
     let last = sub["trajectory"]["points"]
         .as_array()
         .and_then(|p| p.last())
@@ -379,13 +385,7 @@ fn cut_short(example: &str, reason: &str, gripper: &[&str]) -> Value {
 #[test]
 fn aborted_subgoal_is_checked_and_replayed_as_far_as_it_went() {
     let json = cut_short("hand-stays-in-the-way.yaml", "waited_too_long", &["close"]);
-    let verdicts: Vec<&str> = json["events"]
-        .as_array()
-        .expect("events")
-        .iter()
-        .map(|e| e["verdict"].as_str().expect("verdict"))
-        .collect();
-    assert_eq!(verdicts, ["wait", "abort"]);
+    assert_eq!(verdicts(&json), ["wait", "abort"]);
     cut_short("piece-taken-away.yaml", "target_gone", &[]);
 }
 
