@@ -107,7 +107,8 @@ pub fn replay_motions(plan: &PlanFile) -> Result<Vec<ReplayMotion>, String> {
 }
 
 /// A sub-goal cut short grasps only if it closed, and is judged on its
-/// placement only if it opened; holding at its end, it lets go there.
+/// placement only if it opened; holding at its end, it lets go there. Its
+/// piece is its target throughout, as in a whole sub-goal.
 fn motion(sub: &SubgoalFile) -> Result<ReplayMotion, String> {
     let event =
         |command: GripperCommand| sub.trajectory.gripper.iter().find(|e| e.command == command);
@@ -126,7 +127,14 @@ fn motion(sub: &SubgoalFile) -> Result<ReplayMotion, String> {
             t_close: close.end,
             t_open: end,
         }),
-        (None, None) if sub.cut_short => None,
+        // Still its target (the open fingers reach around it as planned),
+        // never gripped.
+        (None, None) if sub.cut_short => Some(Grasp {
+            piece: sub.object.clone(),
+            goal: None,
+            t_close: end,
+            t_open: end,
+        }),
         (close, _) => {
             let missing = if close.is_none() { "close" } else { "open" };
             return Err(format!("no {missing} gripper event"));

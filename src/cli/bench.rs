@@ -260,7 +260,7 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
         return print_report(&report, true);
     }
     let mut out = format!(
-        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms\nexecutions re-checked {}: check failures {}, physics failures {}\n",
+        "relevant {} (detected {}), irrelevant {} (false triggers {})\nmedian observe {:.0} µs, median replan {:.1} ms\nexecutions re-checked {} ({} cut short by an abort): check failures {}, physics failures {}\n",
         report.relevant,
         report.detected,
         report.irrelevant,
@@ -268,6 +268,7 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
         report.median_observe_us,
         report.median_replan_ms,
         report.physics_runs.unwrap_or(0),
+        report.cut_short_runs.unwrap_or(0),
         report.check_failures.unwrap_or(0),
         report.physics_failures.unwrap_or(0),
     );

@@ -73,6 +73,9 @@ pub struct MonitorBenchReport {
     /// Perturbed executions run to their end and re-checked; `null`: no
     /// re-check given.
     pub physics_runs: Option<usize>,
+    /// Of those, the executions that aborted inside a sub-goal: their
+    /// sub-goal cut short was re-checked as far as it went.
+    pub cut_short_runs: Option<usize>,
     /// Of those, the executions the independent check flags.
     pub check_failures: Option<usize>,
     /// Each execution the check flags (scene, kind, moment), its violations.
@@ -136,6 +139,7 @@ pub fn run(
 struct Tally<'a> {
     physics: Option<Recheck<'a>>,
     physics_runs: usize,
+    cut_short_runs: usize,
     check_failures: usize,
     check_findings: Vec<String>,
     physics_failures: usize,
@@ -164,6 +168,7 @@ impl Tally<'_> {
         };
         timeline::play(&mut monitor, &[withdrawn]);
         self.physics_runs += 1;
+        self.cut_short_runs += usize::from(monitor.executed().iter().any(|e| e.cut_short));
         let found = physics(&monitor);
         let run = run();
         for (findings, count, list) in [
@@ -194,6 +199,7 @@ impl Tally<'_> {
             median_observe_us: median(&self.observe_us),
             median_replan_ms: median(&self.replan_ms),
             physics_runs: self.physics.map(|_| self.physics_runs),
+            cut_short_runs: self.physics.map(|_| self.cut_short_runs),
             check_failures: self.physics.map(|_| self.check_failures),
             check_findings: self.check_findings,
             physics_failures: self.physics.map(|_| self.physics_failures),
