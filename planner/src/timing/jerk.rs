@@ -42,7 +42,7 @@ const GAUSS: [(f64, f64); 4] = [
 ];
 
 /// Candidate widths tried, as fractions of the bound `max_j 2A_j/J_j`.
-const CANDIDATES: usize = 16;
+const CANDIDATES: usize = 32;
 
 /// The timed path averaged over `τ` seconds.
 pub struct Filtered<'a> {

@@ -1026,41 +1026,23 @@ fn solve_on_grid(
     settings: &TimingSettings,
     widen: f64,
 ) -> Result<Solved, TimingError> {
-    let n = grid.segments();
     let caps = tool
         .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, widen))
         .transpose()?;
-    let mut rows = SegmentRows {
-        offsets: Vec::with_capacity(n + 1),
-        rows: Vec::with_capacity(4 * n),
-    };
-    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
-    rows.offsets.push(0);
-    for i in 0..n {
-        seg_rows.clear();
-        let tool_i = tool
-            .zip(caps.as_ref())
-            .map(|((spline, _), t)| (spline, (t.caps[i] * limits.tool_shrink).powi(2)));
-        grid::segment_rows(
-            spline,
-            &grid,
-            i,
-            &limits.vel_sq,
-            &limits.acc,
-            tool_i,
-            &mut seg_rows,
-        );
-        // b_0 = b_N = 0: their coefficients vanish.
-        if i == 0 {
-            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
-        }
-        if i == n - 1 {
-            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
-        }
-        grid::prune_rows(&mut seg_rows, &mut scratch);
-        rows.rows.extend_from_slice(&seg_rows);
-        rows.offsets.push(rows.rows.len());
-    }
+    let caps_sq: Option<Vec<f64>> = caps.as_ref().map(|t| {
+        t.caps
+            .iter()
+            .map(|c| (c * limits.tool_shrink).powi(2))
+            .collect()
+    });
+    let rows = grid::program_rows(
+        spline,
+        &grid,
+        &limits.vel_sq,
+        &limits.acc,
+        tool.zip(caps_sq.as_deref())
+            .map(|((spline, _), caps_sq)| (spline, caps_sq)),
+    );
     let solution = topp::solve_profile(
         &grid,
         &rows,
