@@ -86,7 +86,7 @@ pub struct TimingSettings {
     /// The convex program: the LP for the greatest profile (default) or the
     /// SOCP with the exact time objective; same optimum (see [`topp`](super::topp)).
     pub program: Program,
-    /// Clarabel's iteration limit, 100.
+    /// Clarabel's iteration limit (the SOCP, or an LP off the lattice), 100.
     pub max_iterations: u32,
     /// Clarabel's duality-gap tolerance (absolute and relative), 1e-7.
     pub solver_tolerance: f64,
@@ -332,12 +332,13 @@ impl std::fmt::Display for TimingStatus {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolveStats {
     pub outcome: SolverOutcome,
+    /// Clarabel's iterations; 0 when the two passes solved the LP.
     pub iterations: u32,
     /// Grid segments `N` actually used.
     pub segments: usize,
     /// Linear rows kept after pruning.
     pub linear_rows: usize,
-    /// Clarabel's solve time of the last program, seconds.
+    /// Solve time of the last program (the two passes or Clarabel), seconds.
     pub solve_time_s: f64,
     /// Refinement rounds run after the first solve.
     pub refinements: u32,
@@ -393,7 +394,7 @@ pub fn time_parameterize(
 }
 
 /// Times one arm's joint path: blended path → grid → separation caps →
-/// rows → LP/SOCP (Clarabel) → sampling → check of every sample (positions,
+/// rows → LP (two passes) or SOCP (Clarabel) → sampling → check of every sample (positions,
 /// velocities, accelerations, tool speed near hands, and with `fk` the
 /// tool's distance from the planned tool path). `Err` only for bad input
 /// (a waypoint outside the position limits included); a solver that stops
