@@ -79,9 +79,10 @@ pub struct TimingBenchReport {
     pub median_ms_200: f64,
     /// 90th percentile of the same, milliseconds.
     pub p90_ms_200: f64,
-    /// Median of Clarabel's own solve time, milliseconds.
+    /// Median solve time of the program (the two passes, or Clarabel's
+    /// own time), milliseconds.
     pub median_solve_ms_200: f64,
-    /// Median interior-point iterations.
+    /// Median interior-point iterations (0 where the two passes solved the LP).
     pub median_iterations: f64,
     /// Median trajectory duration, seconds.
     pub median_duration_s: f64,

@@ -30,6 +30,7 @@
 //! dropped, leaving typically 2–4 rows per segment.
 
 use super::spline::PiecewiseCubic;
+use super::topp::SegmentRows;
 
 /// The discretised path: grid points and the spline piece of each segment.
 #[derive(Debug, Clone, PartialEq)]
@@ -181,6 +182,41 @@ pub fn segment_rows(
         }
         push_speed_rows(&g, rows);
     }
+}
+
+/// The pruned rows of every segment of `grid` (with `b_0 = b_N = 0`
+/// substituted): [`segment_rows`] with the squared tool-speed cap
+/// `tool_caps_sq[i]` of each segment when given, then [`prune_rows`].
+pub fn program_rows(
+    spline: &PiecewiseCubic,
+    grid: &PathGrid,
+    vel_sq: &[f64],
+    acc: &[f64],
+    tool: Option<(&PiecewiseCubic, &[f64])>,
+) -> SegmentRows {
+    let n = grid.segments();
+    let mut rows = SegmentRows {
+        offsets: Vec::with_capacity(n + 1),
+        rows: Vec::with_capacity(4 * n),
+    };
+    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
+    rows.offsets.push(0);
+    for i in 0..n {
+        seg_rows.clear();
+        let tool_i = tool.map(|(spline, caps_sq)| (spline, caps_sq[i]));
+        segment_rows(spline, grid, i, vel_sq, acc, tool_i, &mut seg_rows);
+        // b_0 = b_N = 0: their coefficients vanish.
+        if i == 0 {
+            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
+        }
+        if i == n - 1 {
+            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
+        }
+        prune_rows(&mut seg_rows, &mut scratch);
+        rows.rows.extend_from_slice(&seg_rows);
+        rows.offsets.push(rows.rows.len());
+    }
+    rows
 }
 
 /// Bernstein coefficients (in `θ`) of the acceleration of joint `j` on

@@ -42,7 +42,7 @@ const GAUSS: [(f64, f64); 4] = [
 ];
 
 /// Candidate widths tried, as fractions of the bound `max_j 2A_j/J_j`.
-const CANDIDATES: usize = 16;
+const CANDIDATES: usize = 32;
 
 /// The timed path averaged over `τ` seconds.
 pub struct Filtered<'a> {
@@ -195,11 +195,15 @@ impl<'a> Filtered<'a> {
             out.dq[j] = (now.q[j] - before.q[j]) * inv;
             out.ddq[j] = (now.dq[j] - before.dq[j]) * inv;
         }
-        let dim = out.q.len();
-        let (mut upper, mut lower) = (vec![0.0; dim], vec![0.0; dim]);
-        self.antiderivative(t, &mut upper, now);
-        self.antiderivative(t - self.tau, &mut lower, now);
-        for j in 0..dim {
+        // `before` is spent: its buffers hold the two antiderivatives.
+        let State {
+            q: upper,
+            dq: lower,
+            ..
+        } = before;
+        self.antiderivative(t, upper, now);
+        self.antiderivative(t - self.tau, lower, now);
+        for j in 0..out.q.len() {
             out.q[j] = (upper[j] - lower[j]) * inv;
         }
     }
@@ -230,20 +234,34 @@ pub fn filter_width(
             probes.push(0.5 * (ti + next));
         }
     }
-    let fits = |tau: f64| {
-        let (mut a, mut b) = (State::zeros(dim), State::zeros(dim));
-        probes.iter().all(|&p| {
-            [p, p + tau].into_iter().all(|time| {
-                raw.raw(time, &mut a);
-                raw.raw(time - tau, &mut b);
-                (0..dim).all(|j| (a.ddq[j] - b.ddq[j]).abs() <= jerk[j] * tau)
-            })
-        })
+    let (mut a, mut b) = (State::zeros(dim), State::zeros(dim));
+    let mut holds = |probe: usize, later: bool, tau: f64| {
+        let time = if later {
+            probes[probe] + tau
+        } else {
+            probes[probe]
+        };
+        raw.raw(time, &mut a);
+        raw.raw(time - tau, &mut b);
+        (0..dim).all(|j| (a.ddq[j] - b.ddq[j]).abs() <= jerk[j] * tau)
     };
-    (1..CANDIDATES)
-        .map(|m| bound * m as f64 / CANDIDATES as f64)
-        .find(|&tau| fits(tau))
-        .unwrap_or(bound)
+    // A width fits when no probe breaks it, in whatever order they are
+    // tried: the scan starts at the probe that broke the last width, which
+    // nearly always breaks the next one too (a failing width then costs a
+    // few evaluations, not a scan).
+    let checks = 2 * probes.len();
+    let mut start = 0;
+    for m in 1..CANDIDATES {
+        let tau = bound * m as f64 / CANDIDATES as f64;
+        match (0..checks)
+            .map(|k| (start + k) % checks)
+            .find(|&c| !holds(c / 2, c % 2 == 1, tau))
+        {
+            Some(broke) => start = broke,
+            None => return tau,
+        }
+    }
+    bound
 }
 
 /// `max_j 2A_j/J_j`, the width that bounds every joint's jerk whatever the
@@ -292,12 +310,8 @@ pub fn sample_jerk(
 
 /// `6 f[t_0, t_1, t_2, t_3]`, the jerk a cubic through the four points has.
 fn third_difference(t: &[f64], f: impl Fn(usize) -> f64) -> f64 {
-    let d1: Vec<f64> = (0..3)
-        .map(|m| (f(m + 1) - f(m)) / (t[m + 1] - t[m]))
-        .collect();
-    let d2: Vec<f64> = (0..2)
-        .map(|m| (d1[m + 1] - d1[m]) / (t[m + 2] - t[m]))
-        .collect();
+    let d1: [f64; 3] = std::array::from_fn(|m| (f(m + 1) - f(m)) / (t[m + 1] - t[m]));
+    let d2: [f64; 2] = std::array::from_fn(|m| (d1[m + 1] - d1[m]) / (t[m + 2] - t[m]));
     6.0 * (d2[1] - d2[0]) / (t[3] - t[0])
 }
 

@@ -6,7 +6,8 @@
 //! leaves the range of its waypoints (so never a position limit they
 //! respect) and stays within [`TimingSettings::max_tool_deviation_m`] of
 //! the planned tool path ([`deviation`]). It is cut into `N` segments
-//! ([`grid`]), timed by one convex program solved with Clarabel ([`topp`])
+//! ([`grid`]), timed by one convex program ([`topp`]: an LP solved exactly
+//! in two passes over the segments, or an SOCP solved with Clarabel)
 //! and sampled at the controller rate ([`sample`]). Stages, in
 //! [`time_parameterize_tool`]: blended path → grid → separation caps → rows
 //! → LP/SOCP → sampling → check of every sample.

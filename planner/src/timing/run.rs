@@ -86,7 +86,7 @@ pub struct TimingSettings {
     /// The convex program: the LP for the greatest profile (default) or the
     /// SOCP with the exact time objective; same optimum (see [`topp`](super::topp)).
     pub program: Program,
-    /// Clarabel's iteration limit, 100.
+    /// Clarabel's iteration limit (the SOCP, or an LP off the lattice), 100.
     pub max_iterations: u32,
     /// Clarabel's duality-gap tolerance (absolute and relative), 1e-7.
     pub solver_tolerance: f64,
@@ -332,12 +332,13 @@ impl std::fmt::Display for TimingStatus {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolveStats {
     pub outcome: SolverOutcome,
+    /// Clarabel's iterations; 0 when the two passes solved the LP.
     pub iterations: u32,
     /// Grid segments `N` actually used.
     pub segments: usize,
     /// Linear rows kept after pruning.
     pub linear_rows: usize,
-    /// Clarabel's solve time of the last program, seconds.
+    /// Solve time of the last program (the two passes or Clarabel), seconds.
     pub solve_time_s: f64,
     /// Refinement rounds run after the first solve.
     pub refinements: u32,
@@ -393,7 +394,7 @@ pub fn time_parameterize(
 }
 
 /// Times one arm's joint path: blended path → grid → separation caps →
-/// rows → LP/SOCP (Clarabel) → sampling → check of every sample (positions,
+/// rows → LP (two passes) or SOCP (Clarabel) → sampling → check of every sample (positions,
 /// velocities, accelerations, tool speed near hands, and with `fk` the
 /// tool's distance from the planned tool path). `Err` only for bad input
 /// (a waypoint outside the position limits included); a solver that stops
@@ -1026,41 +1027,23 @@ fn solve_on_grid(
     settings: &TimingSettings,
     widen: f64,
 ) -> Result<Solved, TimingError> {
-    let n = grid.segments();
     let caps = tool
         .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, widen))
         .transpose()?;
-    let mut rows = SegmentRows {
-        offsets: Vec::with_capacity(n + 1),
-        rows: Vec::with_capacity(4 * n),
-    };
-    let (mut seg_rows, mut scratch) = (Vec::new(), Vec::new());
-    rows.offsets.push(0);
-    for i in 0..n {
-        seg_rows.clear();
-        let tool_i = tool
-            .zip(caps.as_ref())
-            .map(|((spline, _), t)| (spline, (t.caps[i] * limits.tool_shrink).powi(2)));
-        grid::segment_rows(
-            spline,
-            &grid,
-            i,
-            &limits.vel_sq,
-            &limits.acc,
-            tool_i,
-            &mut seg_rows,
-        );
-        // b_0 = b_N = 0: their coefficients vanish.
-        if i == 0 {
-            seg_rows.iter_mut().for_each(|r| r.0 = 0.0);
-        }
-        if i == n - 1 {
-            seg_rows.iter_mut().for_each(|r| r.1 = 0.0);
-        }
-        grid::prune_rows(&mut seg_rows, &mut scratch);
-        rows.rows.extend_from_slice(&seg_rows);
-        rows.offsets.push(rows.rows.len());
-    }
+    let caps_sq: Option<Vec<f64>> = caps.as_ref().map(|t| {
+        t.caps
+            .iter()
+            .map(|c| (c * limits.tool_shrink).powi(2))
+            .collect()
+    });
+    let rows = grid::program_rows(
+        spline,
+        &grid,
+        &limits.vel_sq,
+        &limits.acc,
+        tool.zip(caps_sq.as_deref())
+            .map(|((spline, _), caps_sq)| (spline, caps_sq)),
+    );
     let solution = topp::solve_profile(
         &grid,
         &rows,

@@ -149,18 +149,22 @@ pub fn time_piece(
     let limits = arm_limits(r.robot, r.arm);
     let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
     let piece = &r.path[from..=to];
-    let proximity = Proximity {
+    // Without hands the tool positions would go unused: no forward
+    // kinematics of every waypoint for them (the rule is still checked).
+    let hands = hands(r.scenario);
+    r.separation.validate().map_err(Refusal::from)?;
+    let proximity = (!hands.is_empty()).then(|| Proximity {
         tool_positions: piece.iter().map(|q| fk(q)).collect(),
-        hands: hands(r.scenario),
+        hands,
         rule: r.separation.clone(),
-    };
+    });
     let total = chord(r.path).max(f64::EPSILON);
     let share = (settings.path_points as f64 * chord(piece) / total).round() as usize;
     let settings = TimingSettings {
         path_points: share.max(MIN_PIECE_SEGMENTS),
         ..settings.clone()
     };
-    time_parameterize_tool(piece, &limits, Some(&proximity), Some(&fk), &settings)
+    time_parameterize_tool(piece, &limits, proximity.as_ref(), Some(&fk), &settings)
         .map_err(Refusal::from)
 }
 
