@@ -666,7 +666,14 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
     let profile = SpeedProfile::new(&grid, &solution.b);
     let velocity: Vec<f64> = limits.velocity.iter().map(|v| v * k).collect();
     let acceleration: Vec<f64> = limits.acceleration.iter().map(|a| a * k * k).collect();
-    let widest = jerk::jerk_bound_width(&program.acc, &limits.jerk).unwrap_or(0.0);
+    // The filter keeps the jerk within the limits less the program's margin,
+    // so the samples stay strictly inside them whatever the rounding.
+    let jerk_kept: Vec<f64> = limits
+        .jerk
+        .iter()
+        .map(|j| j * (1.0 - settings.limit_margin))
+        .collect();
+    let widest = jerk::jerk_bound_width(&program.acc, &jerk_kept).unwrap_or(0.0);
     let samples = ((profile.duration() + widest) * settings.rate_hz).ceil() + 1.0;
     if !samples.is_finite() || samples > MAX_SAMPLES as f64 {
         return Err(TimingError::TooManySamples {
@@ -686,7 +693,7 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
     };
     // The narrowest filter found on the profile, then (should its samples
     // break a limit) the width that bounds every joint's jerk.
-    let narrow = jerk::filter_width(spline, &profile, &program.acc, &limits.jerk);
+    let narrow = jerk::filter_width(spline, &profile, &program.acc, &jerk_kept);
     let mut widths = vec![narrow];
     if widest > narrow {
         widths.push(widest);
