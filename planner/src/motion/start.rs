@@ -7,7 +7,7 @@
 //! |---|---|---|---|
 //! | given | absent | the given joints | the tool of the arm nearest the image centre, by forward kinematics, clamped into the image |
 //! | given | given | the given joints; the tool of the arm nearest `robot.start` must lie within one grid cell (the first target's box) of it | `robot.start` |
-//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height: the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic), every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
+//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height and grasp yaw (any yaw when that one is out of reach): the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic), every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
 //! | absent | absent | home, every arm that has a park posture parked | as in the first row |
 //!
 //! "Nearest" compares table-plane distances (metres) from an arm's tool, or
@@ -21,7 +21,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::error::FieldIssue;
-use crate::lift::{LiftSettings, carry_height};
+use crate::lift::{LiftSettings, carry_height, longer_side_yaw};
 use crate::scenario::Scenario;
 
 /// Tolerance (rad or m) on the joint limits for a given joint state, as for
@@ -50,6 +50,9 @@ pub struct FirstSubgoal {
     pub carry_height: f64,
     /// Centre pixel of the first target.
     pub target_px: [f64; 2],
+    /// Tool yaw of the first grasp (rad, base frame): the yaw of the first
+    /// sub-goal's every waypoint.
+    pub grasp_yaw: f64,
 }
 
 impl FirstSubgoal {
@@ -62,6 +65,7 @@ impl FirstSubgoal {
             cell_px: [target.w, target.l],
             carry_height: carry_height(scenario, object, lift),
             target_px: target.centre(),
+            grasp_yaw: longer_side_yaw(scenario, &scenario.objects[object]),
         }
     }
 }
@@ -282,7 +286,8 @@ fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (
 }
 
 /// The parked home with one arm's tool pointing down over pixel `px` at the
-/// first sub-goal's carry height. Only an arm without a park posture hovers
+/// first sub-goal's carry height and grasp yaw (any yaw when no IK reaches
+/// that one). Only an arm without a park posture hovers
 /// (one with a park posture waits parked and leaves park through its home
 /// posture when it works: an IK posture near the body is not known to be
 /// free); among those, by distance from their tool at their home posture to
@@ -297,10 +302,7 @@ fn hover(
 ) -> Result<Vec<f64>, String> {
     let [x, y] = scenario.pixel_to_base(px);
     let z = scenario.camera.table_z + first.carry_height;
-    let target = IkTarget::TopDown {
-        position: Vec3::new(x, y, z),
-        yaw: None,
-    };
+    let position = Vec3::new(x, y, z);
     let [tx, ty] = scenario.pixel_to_base(first.target_px);
     let first_target = Vec3::new(tx, ty, z);
     let mut arms: Vec<&Arm> = robot.arms().iter().filter(|a| a.park.is_empty()).collect();
@@ -314,13 +316,18 @@ fn hover(
     let mut rng = ChaCha8Rng::seed_from_u64(HOVER_IK_SEED);
     let mut reasons = Vec::new();
     for arm in arms {
-        match arm.solve_ik(&target, None, ik, &mut rng) {
-            Ok(solution) => {
-                let mut q = parked_home(robot);
-                arm.insert(&mut q, &solution.q);
-                return Ok(q);
+        // At the first grasp's yaw, so that the first sub-goal starts where
+        // its path IK starts (no reconfiguration transit); any yaw if not.
+        for yaw in [Some(first.grasp_yaw), None] {
+            let target = IkTarget::TopDown { position, yaw };
+            match arm.solve_ik(&target, None, ik, &mut rng) {
+                Ok(solution) => {
+                    let mut q = parked_home(robot);
+                    arm.insert(&mut q, &solution.q);
+                    return Ok(q);
+                }
+                Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
             }
-            Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
         }
     }
     Err(format!(
