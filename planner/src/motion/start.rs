@@ -386,6 +386,57 @@ mod tests {
         );
     }
 
+    /// The hover stood in for the start state at any yaw (the IK's), and the
+    /// first sub-goal's path IK, at the grasp yaw, began with a transit
+    /// turning the wrist where the tool stood (0.5 s, and a reversal of
+    /// every joint it moved where the route began). The hover takes the
+    /// grasp yaw: the first waypoint's IK from it returns it unchanged.
+    #[test]
+    fn hover_start_at_the_grasp_yaw_needs_no_reconfiguration_transit() {
+        let mut s = default_scenario().expect("default scenario");
+        s.robot.joints = None;
+        let px = s
+            .robot
+            .start
+            .expect("the default scenario gives robot.start");
+        let robot = RobotModel::builtin(&s.robot.model).expect("robot");
+        let first = FirstSubgoal::moving(&s, 0, &LiftSettings::default());
+        let ik = IkSettings::default();
+        let state = resolve(&s, &robot, &first, &ik).expect("hovers");
+        assert_eq!(state.gripper_px, px);
+        let arm = &robot.arms()[0];
+        let q = arm.extract(&state.joints);
+        let tool = arm.fk(&q);
+        let x_axis = tool.rotation * Vec3::x();
+        let yaw = x_axis.y.atan2(x_axis.x);
+        let turn = (yaw - first.grasp_yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        assert!(
+            turn.abs() < 1e-3,
+            "tool yaw {yaw}, grasp yaw {}",
+            first.grasp_yaw
+        );
+        let target = IkTarget::TopDown {
+            position: tool.translation.vector,
+            yaw: Some(first.grasp_yaw),
+        };
+        let restarting = IkSettings {
+            restart_when_seeded: true,
+            ..ik
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let solved = arm
+            .solve_ik(&target, Some(&q), &restarting, &mut rng)
+            .expect("solves");
+        let moved = solved
+            .q
+            .iter()
+            .zip(&q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(moved < 1e-9, "the first waypoint's IK moves {moved} rad");
+    }
+
     #[test]
     fn start_state_parked_only_at_the_park_posture() {
         let robot = RobotModel::builtin("care_o_bot4").expect("robot");
