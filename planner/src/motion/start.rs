@@ -16,6 +16,8 @@
 //! never hovers: an IK posture over a pixel near the body is not known to be
 //! free of the body, while its park-home transit is checked.
 
+use std::f64::consts::{PI, TAU};
+
 use afford_kinematics::{Arm, IkSettings, IkTarget, RobotModel, Vec3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -316,18 +318,18 @@ fn hover(
     let mut rng = ChaCha8Rng::seed_from_u64(HOVER_IK_SEED);
     let mut reasons = Vec::new();
     for arm in arms {
-        // At the first grasp's yaw, so that the first sub-goal starts where
-        // its path IK starts (no reconfiguration transit); any yaw if not.
-        for yaw in [Some(first.grasp_yaw), None] {
-            let target = IkTarget::TopDown { position, yaw };
-            match arm.solve_ik(&target, None, ik, &mut rng) {
-                Ok(solution) => {
-                    let mut q = parked_home(robot);
-                    arm.insert(&mut q, &solution.q);
-                    return Ok(q);
-                }
-                Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
+        let any_yaw = IkTarget::TopDown {
+            position,
+            yaw: None,
+        };
+        match arm.solve_ik(&any_yaw, None, ik, &mut rng) {
+            Ok(solution) => {
+                let mut q = parked_home(robot);
+                let turned = rolled_to(arm, solution.q, position, first.grasp_yaw, ik, &mut rng);
+                arm.insert(&mut q, &turned);
+                return Ok(q);
             }
+            Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
         }
     }
     Err(format!(
@@ -337,6 +339,44 @@ fn hover(
         px[1],
         reasons.join("; ")
     ))
+}
+
+/// The hover `q` (tool down over `position`) turned to tool yaw `yaw`, so
+/// that the first sub-goal starts where its path IK starts (no
+/// reconfiguration transit): the last joint (the wrist's roll) turns the
+/// tool, then the IK finishes from there (seeded: the rest of the arm stays
+/// as it is, a planar arm stays planar); unseeded if that fails; `q` as it
+/// is when no IK reaches that yaw.
+fn rolled_to(
+    arm: &Arm,
+    q: Vec<f64>,
+    position: Vec3,
+    yaw: f64,
+    ik: &IkSettings,
+    rng: &mut ChaCha8Rng,
+) -> Vec<f64> {
+    const STEP: f64 = 1e-3;
+    let tool_yaw = |q: &[f64]| {
+        let x = arm.fk(q).rotation * Vec3::x();
+        x.y.atan2(x.x)
+    };
+    let wrap = |a: f64| (a + PI).rem_euclid(TAU) - PI;
+    let last = q.len() - 1;
+    let mut nudged = q.clone();
+    nudged[last] += STEP;
+    let rate = wrap(tool_yaw(&nudged) - tool_yaw(&q)) / STEP;
+    let mut seed = q.clone();
+    if rate.abs() > 0.5 {
+        seed[last] =
+            (seed[last] + wrap(yaw - tool_yaw(&q)) / rate).clamp(arm.lower[last], arm.upper[last]);
+    }
+    let target = IkTarget::TopDown {
+        position,
+        yaw: Some(yaw),
+    };
+    arm.solve_ik(&target, Some(&seed), ik, rng)
+        .or_else(|_| arm.solve_ik(&target, None, ik, rng))
+        .map_or(q, |s| s.q)
 }
 
 fn joint_names(robot: &RobotModel) -> String {
@@ -416,6 +456,11 @@ mod tests {
             "tool yaw {yaw}, grasp yaw {}",
             first.grasp_yaw
         );
+        // The iiwa's home is planar (a3 = a5 = 0) and its last joint rolls
+        // the tool: the yaw is the wrist's roll, and the arm stays planar (an
+        // IK from home split the turn between a5 and a7, and every later
+        // vertical move turned all seven joints).
+        assert!(q[2].abs() < 1e-6 && q[4].abs() < 1e-6, "{q:?}");
         let target = IkTarget::TopDown {
             position: tool.translation.vector,
             yaw: Some(first.grasp_yaw),
