@@ -7,7 +7,7 @@
 //! |---|---|---|---|
 //! | given | absent | the given joints | the tool of the arm nearest the image centre, by forward kinematics, clamped into the image |
 //! | given | given | the given joints; the tool of the arm nearest `robot.start` must lie within one grid cell (the first target's box) of it | `robot.start` |
-//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height and grasp yaw (any yaw when that one is out of reach): the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic), every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
+//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height and grasp yaw (any yaw when that one is out of reach): the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic) at any yaw, then turned to the grasp yaw from there, every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
 //! | absent | absent | home, every arm that has a park posture parked | as in the first row |
 //!
 //! "Nearest" compares table-plane distances (metres) from an arm's tool, or
@@ -288,8 +288,8 @@ fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (
 }
 
 /// The parked home with one arm's tool pointing down over pixel `px` at the
-/// first sub-goal's carry height and grasp yaw (any yaw when no IK reaches
-/// that one). Only an arm without a park posture hovers
+/// first sub-goal's carry height and grasp yaw ([`rolled_to`]; any yaw when
+/// no IK reaches that one). Only an arm without a park posture hovers
 /// (one with a park posture waits parked and leaves park through its home
 /// posture when it works: an IK posture near the body is not known to be
 /// free); among those, by distance from their tool at their home posture to
