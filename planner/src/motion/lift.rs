@@ -584,13 +584,21 @@ pub fn grasp_yaw(
             opening_m: gripper.max_opening,
         });
     }
+    Ok(longer_side_yaw(s, held))
+}
+
+/// Tool yaw (rad, base frame) that lays the tool's x axis along the
+/// object's longer side (along u on a tie), as [`grasp_yaw`] without the
+/// opening check.
+pub fn longer_side_yaw(s: &Scenario, held: &Object) -> f64 {
+    let [mu, mv] = s.metres_per_pixel();
     let m = &s.camera.pixel_to_base;
-    let (dx, dy) = if along_u >= along_v {
+    let (dx, dy) = if held.bbox.w * mu >= held.bbox.l * mv {
         (m[0][0], m[1][0])
     } else {
         (m[0][1], m[1][1])
     };
-    Ok(dy.atan2(dx))
+    dy.atan2(dx)
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! |---|---|---|---|
 //! | given | absent | the given joints | the tool of the arm nearest the image centre, by forward kinematics, clamped into the image |
 //! | given | given | the given joints; the tool of the arm nearest `robot.start` must lie within one grid cell (the first target's box) of it | `robot.start` |
-//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height: the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic), every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
+//! | absent | given | the tool pointing down over `robot.start` at the first sub-goal's carry height and grasp yaw (any yaw when that one is out of reach): the arm nearest the first target among the arms without a park posture, solved by IK from its home posture (deterministic) at any yaw, then turned to the grasp yaw from there, every other arm parked; when every arm has a park posture (Care-O-bot), home with every arm parked | `robot.start` |
 //! | absent | absent | home, every arm that has a park posture parked | as in the first row |
 //!
 //! "Nearest" compares table-plane distances (metres) from an arm's tool, or
@@ -16,12 +16,14 @@
 //! never hovers: an IK posture over a pixel near the body is not known to be
 //! free of the body, while its park-home transit is checked.
 
+use std::f64::consts::{PI, TAU};
+
 use afford_kinematics::{Arm, IkSettings, IkTarget, RobotModel, Vec3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::error::FieldIssue;
-use crate::lift::{LiftSettings, carry_height};
+use crate::lift::{LiftSettings, carry_height, longer_side_yaw};
 use crate::scenario::Scenario;
 
 /// Tolerance (rad or m) on the joint limits for a given joint state, as for
@@ -50,6 +52,9 @@ pub struct FirstSubgoal {
     pub carry_height: f64,
     /// Centre pixel of the first target.
     pub target_px: [f64; 2],
+    /// Tool yaw of the first grasp (rad, base frame): the yaw of the first
+    /// sub-goal's every waypoint.
+    pub grasp_yaw: f64,
 }
 
 impl FirstSubgoal {
@@ -62,6 +67,7 @@ impl FirstSubgoal {
             cell_px: [target.w, target.l],
             carry_height: carry_height(scenario, object, lift),
             target_px: target.centre(),
+            grasp_yaw: longer_side_yaw(scenario, &scenario.objects[object]),
         }
     }
 }
@@ -282,7 +288,8 @@ fn nearest_tool<'a>(robot: &'a RobotModel, joints: &[f64], point: [f64; 2]) -> (
 }
 
 /// The parked home with one arm's tool pointing down over pixel `px` at the
-/// first sub-goal's carry height. Only an arm without a park posture hovers
+/// first sub-goal's carry height and grasp yaw ([`rolled_to`]; any yaw when
+/// no IK reaches that one). Only an arm without a park posture hovers
 /// (one with a park posture waits parked and leaves park through its home
 /// posture when it works: an IK posture near the body is not known to be
 /// free); among those, by distance from their tool at their home posture to
@@ -297,10 +304,7 @@ fn hover(
 ) -> Result<Vec<f64>, String> {
     let [x, y] = scenario.pixel_to_base(px);
     let z = scenario.camera.table_z + first.carry_height;
-    let target = IkTarget::TopDown {
-        position: Vec3::new(x, y, z),
-        yaw: None,
-    };
+    let position = Vec3::new(x, y, z);
     let [tx, ty] = scenario.pixel_to_base(first.target_px);
     let first_target = Vec3::new(tx, ty, z);
     let mut arms: Vec<&Arm> = robot.arms().iter().filter(|a| a.park.is_empty()).collect();
@@ -314,10 +318,15 @@ fn hover(
     let mut rng = ChaCha8Rng::seed_from_u64(HOVER_IK_SEED);
     let mut reasons = Vec::new();
     for arm in arms {
-        match arm.solve_ik(&target, None, ik, &mut rng) {
+        let any_yaw = IkTarget::TopDown {
+            position,
+            yaw: None,
+        };
+        match arm.solve_ik(&any_yaw, None, ik, &mut rng) {
             Ok(solution) => {
                 let mut q = parked_home(robot);
-                arm.insert(&mut q, &solution.q);
+                let turned = rolled_to(arm, solution.q, position, first.grasp_yaw, ik, &mut rng);
+                arm.insert(&mut q, &turned);
                 return Ok(q);
             }
             Err(e) => reasons.push(format!("the arm '{}': {e}", arm.name)),
@@ -330,6 +339,44 @@ fn hover(
         px[1],
         reasons.join("; ")
     ))
+}
+
+/// The hover `q` (tool down over `position`) turned to tool yaw `yaw`, so
+/// that the first sub-goal starts where its path IK starts (no
+/// reconfiguration transit): the last joint (the wrist's roll) turns the
+/// tool, then the IK finishes from there (seeded: the rest of the arm stays
+/// as it is, a planar arm stays planar); unseeded if that fails; `q` as it
+/// is when no IK reaches that yaw.
+fn rolled_to(
+    arm: &Arm,
+    q: Vec<f64>,
+    position: Vec3,
+    yaw: f64,
+    ik: &IkSettings,
+    rng: &mut ChaCha8Rng,
+) -> Vec<f64> {
+    const STEP: f64 = 1e-3;
+    let tool_yaw = |q: &[f64]| {
+        let x = arm.fk(q).rotation * Vec3::x();
+        x.y.atan2(x.x)
+    };
+    let wrap = |a: f64| (a + PI).rem_euclid(TAU) - PI;
+    let last = q.len() - 1;
+    let mut nudged = q.clone();
+    nudged[last] += STEP;
+    let rate = wrap(tool_yaw(&nudged) - tool_yaw(&q)) / STEP;
+    let mut seed = q.clone();
+    if rate.abs() > 0.5 {
+        seed[last] =
+            (seed[last] + wrap(yaw - tool_yaw(&q)) / rate).clamp(arm.lower[last], arm.upper[last]);
+    }
+    let target = IkTarget::TopDown {
+        position,
+        yaw: Some(yaw),
+    };
+    arm.solve_ik(&target, Some(&seed), ik, rng)
+        .or_else(|_| arm.solve_ik(&target, None, ik, rng))
+        .map_or(q, |s| s.q)
 }
 
 fn joint_names(robot: &RobotModel) -> String {
@@ -377,6 +424,62 @@ mod tests {
                 "robot.joints.joint_a9"
             ]
         );
+    }
+
+    /// The hover stood in for the start state at any yaw (the IK's), and the
+    /// first sub-goal's path IK, at the grasp yaw, began with a transit
+    /// turning the wrist where the tool stood (0.5 s, and a reversal of
+    /// every joint it moved where the route began). The hover takes the
+    /// grasp yaw: the first waypoint's IK from it returns it unchanged.
+    #[test]
+    fn hover_start_at_the_grasp_yaw_needs_no_reconfiguration_transit() {
+        let mut s = default_scenario().expect("default scenario");
+        s.robot.joints = None;
+        let px = s
+            .robot
+            .start
+            .expect("the default scenario gives robot.start");
+        let robot = RobotModel::builtin(&s.robot.model).expect("robot");
+        let first = FirstSubgoal::moving(&s, 0, &LiftSettings::default());
+        let ik = IkSettings::default();
+        let state = resolve(&s, &robot, &first, &ik).expect("hovers");
+        assert_eq!(state.gripper_px, px);
+        let arm = &robot.arms()[0];
+        let q = arm.extract(&state.joints);
+        let tool = arm.fk(&q);
+        let x_axis = tool.rotation * Vec3::x();
+        let yaw = x_axis.y.atan2(x_axis.x);
+        let turn = (yaw - first.grasp_yaw + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        assert!(
+            turn.abs() < 1e-3,
+            "tool yaw {yaw}, grasp yaw {}",
+            first.grasp_yaw
+        );
+        // The iiwa's home is planar (a3 = a5 = 0) and its last joint rolls
+        // the tool: the yaw is the wrist's roll, and the arm stays planar (an
+        // IK from home split the turn between a5 and a7, and every later
+        // vertical move turned all seven joints).
+        assert!(q[2].abs() < 1e-6 && q[4].abs() < 1e-6, "{q:?}");
+        let target = IkTarget::TopDown {
+            position: tool.translation.vector,
+            yaw: Some(first.grasp_yaw),
+        };
+        let restarting = IkSettings {
+            restart_when_seeded: true,
+            ..ik
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let solved = arm
+            .solve_ik(&target, Some(&q), &restarting, &mut rng)
+            .expect("solves");
+        let moved = solved
+            .q
+            .iter()
+            .zip(&q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(moved < 1e-9, "the first waypoint's IK moves {moved} rad");
     }
 
     #[test]
