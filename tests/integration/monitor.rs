@@ -390,9 +390,11 @@ fn aborted_subgoal_is_checked_and_replayed_as_far_as_it_went() {
 }
 
 /// The gate on a sub-goal cut short is the whole check, not a pass: the
-/// run's own output passes `afford check`, but not with one sample moved
-/// (rates recomputed from positions), nor when it claims to be a whole
-/// sub-goal (whole sub-goals close, then open the gripper).
+/// run's own output passes `afford check` (but for the `jerk` class, which
+/// `afford run` leaves out: the speed override's braking does not bound
+/// jerk, docs/decisions.md), but not with one sample moved (rates
+/// recomputed from positions), nor when it claims to be a whole sub-goal
+/// (whole sub-goals close, then open the gripper).
 #[test]
 fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
     let dir = scratch_dir("cut-short-check");
@@ -406,9 +408,21 @@ fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
         let path = path.to_str().expect("utf-8").to_string();
         afford(&["check", scenario, &path, "--json"])
     };
-    check(&written, "as-written.json")
-        .assert_code(0)
-        .assert_no_panic();
+    let classes = |json: &Value, name: &str| -> Vec<String> {
+        let found = check(json, name);
+        found.assert_no_panic();
+        found.json()["violations"]
+            .as_array()
+            .expect("violations")
+            .iter()
+            .map(|v| v["class"].as_str().expect("class").to_string())
+            .collect()
+    };
+    let written_classes = classes(&written, "as-written.json");
+    assert!(
+        written_classes.iter().all(|c| c == "jerk"),
+        "{written_classes:?}"
+    );
     let mut jumped = written.clone();
     let points = jumped["subgoals"][0]["trajectory"]["points"]
         .as_array_mut()
@@ -416,12 +430,10 @@ fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
     let middle = points.len() / 2;
     let q = &mut points[middle]["positions"][1];
     *q = Value::from(q.as_f64().expect("position") + 0.05);
-    let found = check(&jumped, "jumped.json");
-    found.assert_code(1).assert_no_panic();
-    assert!(found.stdout.contains("\"velocity\""), "{}", found.stdout);
+    let found = classes(&jumped, "jumped.json");
+    assert!(found.iter().any(|c| c == "velocity"), "{found:?}");
     let mut whole = written.clone();
     whole["subgoals"][0]["cut_short"] = Value::Bool(false);
-    let found = check(&whole, "whole.json");
-    found.assert_code(1).assert_no_panic();
-    assert!(found.stdout.contains("gripper_events"), "{}", found.stdout);
+    let found = classes(&whole, "whole.json");
+    assert!(found.iter().any(|c| c == "gripper_events"), "{found:?}");
 }
