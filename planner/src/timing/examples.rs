@@ -24,7 +24,7 @@ use crate::scenario::{Format, Scenario, parse};
 
 /// Every example scenario (`examples/` and `examples/monitor/`, planned
 /// as `afford plan` plans them), by file name.
-pub const EXAMPLES: [(&str, &str); 26] = [
+pub const EXAMPLES: [(&str, &str); 28] = [
     (
         "cob4-extra-pieces",
         include_str!("../../../examples/cob4-extra-pieces.yaml"),
@@ -122,8 +122,16 @@ pub const EXAMPLES: [(&str, &str); 26] = [
         include_str!("../../../examples/monitor/hand-in-the-way.yaml"),
     ),
     (
+        "monitor/hand-stays-in-the-way",
+        include_str!("../../../examples/monitor/hand-stays-in-the-way.yaml"),
+    ),
+    (
         "monitor/piece-moved-away",
         include_str!("../../../examples/monitor/piece-moved-away.yaml"),
+    ),
+    (
+        "monitor/piece-taken-away",
+        include_str!("../../../examples/monitor/piece-taken-away.yaml"),
     ),
     (
         "monitor/pieces-added",
