@@ -60,7 +60,13 @@ pub struct RoutesReport {
     pub total_path_over_shortest: f64,
     /// The sub-goal with the largest ratio (none when nothing planned).
     pub worst: Option<RouteRatio>,
+    /// The [`WORST_LISTED`] sub-goals with the largest ratios, largest
+    /// first (ties by scene and sub-goal), to look at.
+    pub worst_subgoals: Vec<RouteRatio>,
 }
+
+/// How many sub-goals [`RoutesReport::worst_subgoals`] lists.
+pub const WORST_LISTED: usize = 10;
 
 impl RoutesReport {
     /// Summarises the measured scenes `measured` (of `scenes` scenes of the
@@ -68,10 +74,14 @@ impl RoutesReport {
     pub fn of(seed: u64, scenes: usize, measured: &[SceneRoutes]) -> Self {
         let ratios: Vec<RouteRatio> = measured.iter().flat_map(|m| m.ratios.clone()).collect();
         let sum = |f: fn(&RouteRatio) -> f64| ratios.iter().map(f).sum::<f64>();
-        let worst = ratios
-            .iter()
-            .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
-            .cloned();
+        let mut ranked = ratios.clone();
+        ranked.sort_by(|a, b| {
+            (b.ratio.total_cmp(&a.ratio))
+                .then(a.scene.cmp(&b.scene))
+                .then(a.subgoal.cmp(&b.subgoal))
+        });
+        ranked.truncate(WORST_LISTED);
+        let worst = ranked.first().cloned();
         Self {
             seed,
             scenes,
@@ -86,6 +96,7 @@ impl RoutesReport {
                 _ => 0.0,
             },
             worst,
+            worst_subgoals: ranked,
         }
     }
 }

@@ -84,6 +84,9 @@ pub struct StateGrid {
     /// Cells blocked after a collision check ([`Self::block`]): blocked as
     /// a whole, whatever painted them.
     pub checked: Vec<Cell>,
+    /// Obstacle cells cleared under the gripper ([`Self::clear_escape`]):
+    /// the route may cross the perimeters over them, as the cells do.
+    pub cleared: Vec<Cell>,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -128,6 +131,7 @@ impl StateGrid {
             release: Err(NoSpot::Covered),
             perimeters: Vec::new(),
             checked: Vec::new(),
+            cleared: Vec::new(),
         };
         grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
         grid.start = grid.cell_at(req.gripper);
@@ -178,6 +182,7 @@ impl StateGrid {
                 continue;
             }
             self.set(cell, CellCode::Empty);
+            self.cleared.push(cell);
             stack.extend(self.neighbours(cell));
         }
     }
@@ -319,6 +324,7 @@ impl StateGrid {
             release: Err(NoSpot::Covered),
             perimeters: Vec::new(),
             checked: Vec::new(),
+            cleared: Vec::new(),
         };
         let goals: Vec<[f64; 2]> = (0..grid.len())
             .filter(|&i| grid.codes[i] == CellCode::Goal)
