@@ -11,10 +11,12 @@
 //! ([`StateGrid::checked`]). The blocked cells hold every perimeter, so the
 //! route keeps off what they keep off, without being held a cell's
 //! rounding away from it.
-//! Over the cells the grid clears under the gripper
-//! ([`StateGrid::cleared`]: it has just released into a box that is an
-//! obstacle now) the perimeters are open, as those cells are: only their
-//! parts over the other cells count. The forbidden region is those boxes grown by half
+//! The perimeters the gripper is in when the sub-goal starts
+//! ([`StateGrid::escape`]: it has just released into a box that is an
+//! obstacle now, and those meeting it) are open over the cells the grid
+//! clears under it ([`StateGrid::cleared`]), as those cells are: only their
+//! parts over the other cells count. Other perimeters the clearing's flood
+//! fill reached through the grid's rounding stay closed. The forbidden region is those boxes grown by half
 //! the footprint (the configuration-space obstacles, open rectangles). A
 //! segment is free when it crosses none ([`segment_is_free`]: Liang–Barsky
 //! clipping, exact up to a shrink of 1e-6 cell that lets the footprint
@@ -100,7 +102,7 @@ impl FreeSpace {
             opened[grid.index(c)] = true;
         }
         let mut pieces: Vec<Open> = Vec::new();
-        for b in &grid.perimeters {
+        for (i, b) in grid.perimeters.iter().enumerate() {
             let perimeter = Open {
                 lo: [b.u, b.v],
                 hi: [b.u + b.w, b.v + b.l],
@@ -115,10 +117,10 @@ impl FreeSpace {
             for &cell in &cells {
                 explained[grid.index(cell)] = true;
             }
-            // Over the cells cleared under the gripper the perimeter is open,
-            // as those cells are: what is left of it is its part over the
-            // other cells.
-            match cells.iter().any(|&c| opened[grid.index(c)]) {
+            // A perimeter the gripper is in is open over the cells cleared
+            // under it, as those cells are: what is left of it is its part
+            // over the other cells.
+            match grid.escape.contains(&i) {
                 false => pieces.push(perimeter),
                 true => pieces.extend(
                     cells
@@ -650,6 +652,10 @@ pub(crate) mod tests {
         let points = centres(&g, &cells);
         let kept = taut(&g, &points);
         g.cleared = (1..5).flat_map(|r| [(r, 3), (r, 4)]).collect();
+        // The grid cleared the cells, but the gripper is in no perimeter:
+        // the route keeps them closed.
+        assert_eq!(taut(&g, &points), kept);
+        g.escape = vec![0, 1];
         let route = taut(&g, &points);
         assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
         // One bend, at the corner of the uncleared perimeter grown by half
