@@ -24,7 +24,10 @@
 //! are counted as `unmeasured`.
 //!
 //! The ratio is planned / shortest per sub-goal; the report gives the mean
-//! and the largest over every planned sub-goal of every scene.
+//! and the largest over every planned sub-goal of every scene, the ten
+//! largest and the ten smallest to look at, and how many are below 1 (a
+//! route shorter than the oracle's passes where the oracle has a
+//! perimeter).
 
 use serde::Serialize;
 
@@ -60,7 +63,19 @@ pub struct RoutesReport {
     pub total_path_over_shortest: f64,
     /// The sub-goal with the largest ratio (none when nothing planned).
     pub worst: Option<RouteRatio>,
+    /// The [`LISTED`] sub-goals with the largest ratios, largest first
+    /// (ties by scene and sub-goal), to look at.
+    pub worst_subgoals: Vec<RouteRatio>,
+    /// Sub-goals whose route is shorter than the oracle's (ratio below
+    /// 1 − 1e-6): each passes where the oracle has a perimeter.
+    pub below_oracle: usize,
+    /// The [`LISTED`] sub-goals with the smallest ratios, smallest first.
+    pub lowest_subgoals: Vec<RouteRatio>,
 }
+
+/// How many sub-goals [`RoutesReport::worst_subgoals`] and
+/// [`RoutesReport::lowest_subgoals`] list.
+pub const LISTED: usize = 10;
 
 impl RoutesReport {
     /// Summarises the measured scenes `measured` (of `scenes` scenes of the
@@ -68,10 +83,23 @@ impl RoutesReport {
     pub fn of(seed: u64, scenes: usize, measured: &[SceneRoutes]) -> Self {
         let ratios: Vec<RouteRatio> = measured.iter().flat_map(|m| m.ratios.clone()).collect();
         let sum = |f: fn(&RouteRatio) -> f64| ratios.iter().map(f).sum::<f64>();
-        let worst = ratios
-            .iter()
-            .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
-            .cloned();
+        let ranked = |largest_first: bool| {
+            let mut listed = ratios.clone();
+            listed.sort_by(|a, b| {
+                let order = a.ratio.total_cmp(&b.ratio);
+                (if largest_first {
+                    order.reverse()
+                } else {
+                    order
+                })
+                .then(a.scene.cmp(&b.scene))
+                .then(a.subgoal.cmp(&b.subgoal))
+            });
+            listed.truncate(LISTED);
+            listed
+        };
+        let worst_subgoals = ranked(true);
+        let worst = worst_subgoals.first().cloned();
         Self {
             seed,
             scenes,
@@ -86,6 +114,9 @@ impl RoutesReport {
                 _ => 0.0,
             },
             worst,
+            worst_subgoals,
+            below_oracle: ratios.iter().filter(|r| r.ratio < 1.0 - 1e-6).count(),
+            lowest_subgoals: ranked(false),
         }
     }
 }
@@ -101,12 +132,21 @@ pub struct SceneRoutes {
 /// Plans scene `index` of the series `seed` up to the `joints` stage and
 /// measures every planned sub-goal (none when the scene is refused).
 pub fn run_scene(seed: u64, index: usize) -> SceneRoutes {
-    let scenario = scenes::scene(seed, index);
+    let mut measured = run_scenario(&scenes::scene(seed, index));
+    for r in &mut measured.ratios {
+        r.scene = index;
+    }
+    measured
+}
+
+/// Plans `scenario` up to the `joints` stage and measures every planned
+/// sub-goal (none when it is refused); `scene` is 0 in the ratios.
+pub fn run_scenario(scenario: &Scenario) -> SceneRoutes {
     let options = PlanOptions {
         until: Stage::Joints,
         ..PlanOptions::default()
     };
-    let Ok(plan) = crate::plan::plan(&scenario, &options) else {
+    let Ok(plan) = crate::plan::plan(scenario, &options) else {
         return SceneRoutes::default();
     };
     let mut scene = scenario.clone();
@@ -115,7 +155,6 @@ pub fn run_scene(seed: u64, index: usize) -> SceneRoutes {
     for (k, done) in plan.subgoals.iter().enumerate() {
         match measure(&scene, start, done) {
             Some(ratio) => out.ratios.push(RouteRatio {
-                scene: index,
                 subgoal: k,
                 ..ratio
             }),

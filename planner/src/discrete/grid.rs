@@ -84,6 +84,16 @@ pub struct StateGrid {
     /// Cells blocked after a collision check ([`Self::block`]): blocked as
     /// a whole, whatever painted them.
     pub checked: Vec<Cell>,
+    /// Obstacle cells cleared under the gripper ([`Self::clear_escape`]).
+    pub cleared: Vec<Cell>,
+    /// Indices into [`Self::perimeters`] of those the gripper is in: every
+    /// one over cleared cells whose configuration-space box (grown by half
+    /// a cell, the footprint) holds the gripper, and every one over cleared
+    /// cells meeting those, transitively ([`Self::escape_from`]). The route
+    /// may cross them over the cleared cells, as the cells do; the others
+    /// the cells' flood fill reached only through the grid's rounding stay
+    /// closed to it.
+    pub escape: Vec<usize>,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -128,12 +138,15 @@ impl StateGrid {
             release: Err(NoSpot::Covered),
             perimeters: Vec::new(),
             checked: Vec::new(),
+            cleared: Vec::new(),
+            escape: Vec::new(),
         };
         grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
         grid.start = grid.cell_at(req.gripper);
         grid.target = grid.cell_at(target_box.centre());
         grid.paint_scene(scenario, req);
         grid.clear_escape(grid.start);
+        grid.escape = grid.escape_from(req.gripper);
         grid.release = release_spot(scenario, req.object, req.goal, opening, |p| {
             grid.code(grid.cell_at(p)) == CellCode::Goal
         });
@@ -178,8 +191,60 @@ impl StateGrid {
                 continue;
             }
             self.set(cell, CellCode::Empty);
+            self.cleared.push(cell);
             stack.extend(self.neighbours(cell));
         }
+    }
+
+    /// The perimeters the gripper at pixel `gripper` is in (see
+    /// [`Self::escape`]): the configuration-space boxes (open, grown by
+    /// half a cell) holding it, then those meeting one already in (closed
+    /// boxes overlap or touch), among the perimeters over a cleared cell.
+    fn escape_from(&self, gripper: [f64; 2]) -> Vec<usize> {
+        let half = [0, 1].map(|k| self.cell_size[k] / 2.0);
+        let boxes: Vec<[[f64; 2]; 2]> = self
+            .perimeters
+            .iter()
+            .map(|b| {
+                [
+                    [b.u - half[0], b.v - half[1]],
+                    [b.u + b.w + half[0], b.v + b.l + half[1]],
+                ]
+            })
+            .collect();
+        let over_cleared: Vec<bool> = self
+            .perimeters
+            .iter()
+            .map(|b| match (self.span(b.v, b.l, 1), self.span(b.u, b.w, 0)) {
+                (Some((r0, r1)), Some((c0, c1))) => self
+                    .cleared
+                    .iter()
+                    .any(|&(r, c)| (r0..=r1).contains(&r) && (c0..=c1).contains(&c)),
+                _ => false,
+            })
+            .collect();
+        let holds =
+            |[lo, hi]: [[f64; 2]; 2]| (0..2).all(|k| lo[k] < gripper[k] && gripper[k] < hi[k]);
+        let meet = |a: [[f64; 2]; 2], b: [[f64; 2]; 2]| {
+            (0..2).all(|k| a[0][k] <= b[1][k] && b[0][k] <= a[1][k])
+        };
+        let mut inside: Vec<bool> = (0..boxes.len())
+            .map(|i| over_cleared[i] && holds(boxes[i]))
+            .collect();
+        let mut grown = true;
+        while grown {
+            grown = false;
+            for i in 0..boxes.len() {
+                if !inside[i]
+                    && over_cleared[i]
+                    && (0..boxes.len()).any(|j| inside[j] && meet(boxes[i], boxes[j]))
+                {
+                    inside[i] = true;
+                    grown = true;
+                }
+            }
+        }
+        (0..boxes.len()).filter(|&i| inside[i]).collect()
     }
 
     /// The 4-neighbours of a cell that lie on the grid.
@@ -319,6 +384,8 @@ impl StateGrid {
             release: Err(NoSpot::Covered),
             perimeters: Vec::new(),
             checked: Vec::new(),
+            cleared: Vec::new(),
+            escape: Vec::new(),
         };
         let goals: Vec<[f64; 2]> = (0..grid.len())
             .filter(|&i| grid.codes[i] == CellCode::Goal)

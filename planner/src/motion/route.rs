@@ -10,13 +10,19 @@
 //! perimeter explains or that a collision check blocked
 //! ([`StateGrid::checked`]). The blocked cells hold every perimeter, so the
 //! route keeps off what they keep off, without being held a cell's
-//! rounding away from it. The forbidden region is those boxes grown by half
+//! rounding away from it.
+//! The perimeters the gripper is in when the sub-goal starts
+//! ([`StateGrid::escape`]: it has just released into a box that is an
+//! obstacle now, and those meeting it) are open over the cells the grid
+//! clears under it ([`StateGrid::cleared`]), as those cells are: only their
+//! parts over the other cells count. Other perimeters the clearing's flood
+//! fill reached through the grid's rounding stay closed. The forbidden region is those boxes grown by half
 //! the footprint (the configuration-space obstacles, open rectangles). A
 //! segment is free when it crosses none ([`segment_is_free`]: Liang–Barsky
 //! clipping, exact up to a shrink of 1e-6 cell that lets the footprint
-//! touch a perimeter). The cells the grid leaves open over a perimeter (the
-//! target's, and those it clears under the gripper) stay closed to the
-//! route, except as below.
+//! touch a perimeter). The target's cell, which the grid leaves open over
+//! the perimeters reaching into it, stays closed to the route, except as
+//! below.
 //! Where the route starts (or ends) inside one — a tool over a perimeter
 //! (a hand's, or the box it just released into), a target or a resting
 //! spot next to a piece — that obstacle is shrunk until the point is on its boundary: the route
@@ -56,6 +62,15 @@ struct Open {
     hi: Point,
 }
 
+impl Open {
+    /// The common part of two boxes; `None` when it has no area.
+    fn meet(&self, other: &Open) -> Option<Open> {
+        let lo = [0, 1].map(|k| self.lo[k].max(other.lo[k]));
+        let hi = [0, 1].map(|k| self.hi[k].min(other.hi[k]));
+        (0..2).all(|k| lo[k] < hi[k]).then_some(Open { lo, hi })
+    }
+}
+
 /// Where the tool's point may go: inside `lo..=hi` (the footprint on the
 /// grid) and outside every configuration-space obstacle.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,18 +97,37 @@ impl FreeSpace {
         let lo = [0, 1].map(|k| grid.origin[k] + half[k] - shrink[k]);
         let hi = [0, 1].map(|k| grid.origin[k] + grid_extent(grid, k) - half[k] + shrink[k]);
         let mut explained = vec![false; grid.len()];
+        let mut opened = vec![false; grid.len()];
+        for &c in grid.cleared.iter().filter(|&&c| !grid.code(c).is_blocked()) {
+            opened[grid.index(c)] = true;
+        }
         let mut pieces: Vec<Open> = Vec::new();
-        for b in &grid.perimeters {
-            pieces.push(Open {
+        for (i, b) in grid.perimeters.iter().enumerate() {
+            let perimeter = Open {
                 lo: [b.u, b.v],
                 hi: [b.u + b.w, b.v + b.l],
-            });
-            if let (Some((r0, r1)), Some((c0, c1))) =
-                (grid.span(b.v, b.l, 1), grid.span(b.u, b.w, 0))
+            };
+            let cells: Vec<(usize, usize)> = match (grid.span(b.v, b.l, 1), grid.span(b.u, b.w, 0))
             {
-                for cell in (r0..=r1).flat_map(|r| (c0..=c1).map(move |c| (r, c))) {
-                    explained[grid.index(cell)] = true;
-                }
+                (Some((r0, r1)), Some((c0, c1))) => (r0..=r1)
+                    .flat_map(|r| (c0..=c1).map(move |c| (r, c)))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            for &cell in &cells {
+                explained[grid.index(cell)] = true;
+            }
+            // A perimeter the gripper is in is open over the cells cleared
+            // under it, as those cells are: what is left of it is its part
+            // over the other cells.
+            match grid.escape.contains(&i) {
+                false => pieces.push(perimeter),
+                true => pieces.extend(
+                    cells
+                        .iter()
+                        .filter(|&&c| !opened[grid.index(c)])
+                        .filter_map(|&c| perimeter.meet(&cell_box(grid, c))),
+                ),
             }
         }
         pieces.extend(
@@ -587,6 +621,52 @@ pub(crate) mod tests {
         let depth = deepest_into(&route, [1.0, 0.0], [2.0, 2.0], 0.5);
         assert!(depth <= 0.2 + 1e-9, "{depth}");
         assert!(path_length(&route) < path_length(&points) - 0.3);
+    }
+
+    /// The gripper starts over a box it has just released into, an
+    /// obstacle now: the grid clears that connected region of cells, and
+    /// the route crosses the perimeters over it as the cells do instead of
+    /// keeping the staircase through them (campaign scene 140, sub-goal 3:
+    /// 1.34 times the oracle's path); a perimeter over cells the grid did
+    /// not clear still holds the band.
+    #[test]
+    fn route_crosses_the_perimeters_cleared_under_the_gripper() {
+        let mut g = grid(&["T....", ".....", ".##..", ".##..", "....."]);
+        let boxed = |u, v, w, l| PixelBox { u, v, w, l };
+        g.perimeters.extend([
+            boxed(3.2, 3.2, 1.6, 1.6), // the box released into
+            boxed(3.3, 1.1, 1.5, 2.2), // a piece whose perimeter meets it
+            boxed(1.2, 2.2, 1.6, 1.6), // not cleared: cells (2..=3, 1..=2)
+        ]);
+        let cells = [
+            (4, 4),
+            (3, 4),
+            (2, 4),
+            (1, 4),
+            (0, 4),
+            (0, 3),
+            (0, 2),
+            (0, 1),
+            (0, 0),
+        ];
+        let points = centres(&g, &cells);
+        let kept = taut(&g, &points);
+        g.cleared = (1..5).flat_map(|r| [(r, 3), (r, 4)]).collect();
+        // The grid cleared the cells, but the gripper is in no perimeter:
+        // the route keeps them closed.
+        assert_eq!(taut(&g, &points), kept);
+        g.escape = vec![0, 1];
+        let route = taut(&g, &points);
+        assert!(route.windows(2).all(|w| segment_is_free(&g, w[0], w[1])));
+        // One bend, at the corner of the uncleared perimeter grown by half
+        // the footprint, on the side the cells went round.
+        assert_eq!(route.len(), 3, "{route:?}");
+        assert!((route[1][0] - 3.3).abs() < 1e-9 && (route[1][1] - 1.7).abs() < 1e-9);
+        assert!(
+            path_length(&kept) > path_length(&route) + 1.0,
+            "{kept:?} against {route:?}"
+        );
+        assert!(deepest_into(&route, [1.2, 2.2], [2.8, 3.8], 0.5) <= 1e-5);
     }
 
     #[test]
