@@ -114,27 +114,13 @@ fn motion(sub: &SubgoalFile) -> Result<ReplayMotion, String> {
         |command: GripperCommand| sub.trajectory.gripper.iter().find(|e| e.command == command);
     let points = &sub.trajectory.points;
     let end = points.last().map_or(0.0, |p| p.time_from_start);
-    let grasp = match (event(GripperCommand::Close), event(GripperCommand::Open)) {
-        (Some(close), Some(open)) => Some(Grasp {
-            piece: sub.object.clone(),
-            goal: Some(sub.goal.clone()),
-            t_close: close.end,
-            t_open: open.start,
-        }),
-        (Some(close), None) if sub.cut_short => Some(Grasp {
-            piece: sub.object.clone(),
-            goal: None,
-            t_close: close.end,
-            t_open: end,
-        }),
-        // Still its target (the open fingers reach around it as planned),
-        // never gripped.
-        (None, None) if sub.cut_short => Some(Grasp {
-            piece: sub.object.clone(),
-            goal: None,
-            t_close: end,
-            t_open: end,
-        }),
+    // Before any close the piece is still the target (the open fingers
+    // reach around it as planned), never gripped.
+    let (goal, t_close, t_open) = match (event(GripperCommand::Close), event(GripperCommand::Open))
+    {
+        (Some(close), Some(open)) => (Some(sub.goal.clone()), close.end, open.start),
+        (Some(close), None) if sub.cut_short => (None, close.end, end),
+        (None, None) if sub.cut_short => (None, end, end),
         (close, _) => {
             let missing = if close.is_none() { "close" } else { "open" };
             return Err(format!("no {missing} gripper event"));
@@ -145,7 +131,12 @@ fn motion(sub: &SubgoalFile) -> Result<ReplayMotion, String> {
         joint_names: sub.joint_names.clone(),
         times: points.iter().map(|p| p.time_from_start).collect(),
         positions: points.iter().map(|p| p.positions.clone()).collect(),
-        grasp,
+        grasp: Some(Grasp {
+            piece: sub.object.clone(),
+            goal,
+            t_close,
+            t_open,
+        }),
     })
 }
 
