@@ -272,6 +272,21 @@ impl From<&afford_planner::Plan> for PlanFile {
     }
 }
 
+/// One joint's samples along `q(t)` at `times`, with velocity and
+/// acceleration fields 0 (the checks under test recompute them).
+#[cfg(test)]
+pub(crate) fn one_joint_samples(q: impl Fn(f64) -> f64, times: &[f64]) -> Vec<Sample> {
+    times
+        .iter()
+        .map(|&t| Sample {
+            positions: vec![q(t)],
+            velocities: vec![0.0],
+            accelerations: vec![0.0],
+            time_from_start: t,
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -109,6 +109,7 @@ mod tests {
     use afford_kinematics::Joint;
 
     use super::*;
+    use crate::file::one_joint_samples;
 
     fn joint() -> Joint {
         Joint {
@@ -121,18 +122,6 @@ mod tests {
             jerk: 100.0,
             effort: 1.0,
         }
-    }
-
-    fn samples(q: impl Fn(f64) -> f64, times: &[f64]) -> Vec<Sample> {
-        times
-            .iter()
-            .map(|&t| Sample {
-                positions: vec![q(t)],
-                velocities: vec![0.0],
-                accelerations: vec![0.0],
-                time_from_start: t,
-            })
-            .collect()
     }
 
     /// A rest-to-rest move whose jerk is ±90 rad/s³ (the smoothest
@@ -151,10 +140,10 @@ mod tests {
         times.dedup();
         let j = joint();
         let arm = ArmJoints { joints: vec![&j] };
-        let found = check(&arm, &samples(q, &times));
+        let found = check(&arm, &one_joint_samples(q, &times));
         assert!(found.is_empty(), "{found:?}");
         let fast: Vec<f64> = times.iter().map(|t| t / 2.0).collect();
-        let found = check(&arm, &samples(|t| q(2.0 * t), &fast));
+        let found = check(&arm, &one_joint_samples(|t| q(2.0 * t), &fast));
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].0, ViolationClass::Jerk);
         assert!(found[0].1.starts_with("j jerks at"), "{}", found[0].1);

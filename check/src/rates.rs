@@ -323,6 +323,7 @@ fn rest(j: usize, joint: &Joint, points: &[Sample], events: &[(f64, f64)], tally
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::file::one_joint_samples;
 
     fn joint(kind: JointKind) -> Joint {
         Joint {
@@ -338,15 +339,7 @@ mod tests {
     }
 
     fn still_at(q: f64, times: &[f64]) -> Vec<Sample> {
-        times
-            .iter()
-            .map(|&t| Sample {
-                positions: vec![q],
-                velocities: vec![0.0],
-                accelerations: vec![0.0],
-                time_from_start: t,
-            })
-            .collect()
+        one_joint_samples(|_| q, times)
     }
 
     #[test]

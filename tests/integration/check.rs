@@ -14,7 +14,9 @@ use std::time::Instant;
 
 use serde_json::{Value, json};
 
-use crate::util::{afford, afford_with_path, assert_contains_all, fixture, repo, scratch_dir};
+use crate::util::{
+    afford, afford_with_path, assert_contains_all, fixture, nudge, repo, scratch_dir,
+};
 
 fn scene() -> PathBuf {
     fixture("check/iiwa-one-piece.yaml")
@@ -209,8 +211,7 @@ fn check_rejects_halved_times_by_the_accelerations_they_imply() {
 #[test]
 fn check_rejects_a_jerk_from_a_position_bump_naming_the_joint_and_time() {
     let mut plan = reference();
-    let q = &mut points(&mut plan)[40]["positions"][1];
-    *q = json!(q.as_f64().expect("position") + 1e-3);
+    nudge(&mut points(&mut plan)[40]["positions"][1], 1e-3);
     let c = check("jerk-bump", &scene(), &plan);
     c.rejects("jerk", &["joint_a2", "limit 428.5 rad/s³"]);
     let (_, _, message) = c
@@ -318,8 +319,7 @@ fn check_rejects_a_gripper_event_while_the_arm_moves() {
 #[test]
 fn check_rejects_a_start_that_is_not_where_the_robot_is() {
     let mut plan = reference();
-    let q = &mut plan["start_state"]["positions"][0];
-    *q = json!(q.as_f64().expect("position") + 0.3);
+    nudge(&mut plan["start_state"]["positions"][0], 0.3);
     let c = check("start", &scene(), &plan);
     c.rejects("start", &["no arm's tool points down over robot.start"]);
     c.rejects("start", &["joint_a1", "away from start_state"]);
@@ -328,8 +328,7 @@ fn check_rejects_a_start_that_is_not_where_the_robot_is() {
 #[test]
 fn check_rejects_a_trajectory_that_jumps() {
     let mut plan = reference();
-    let q = &mut points(&mut plan)[0]["positions"][0];
-    *q = json!(q.as_f64().expect("position") + 0.3);
+    nudge(&mut points(&mut plan)[0]["positions"][0], 0.3);
     let c = check("jump", &scene(), &plan);
     c.rejects("start", &["joint_a1", "0.300000 away"]);
     c.rejects("velocity", &["joint_a1", "recomputed"]);

@@ -8,7 +8,7 @@ use serde_json::Value;
 
 use afford::planner::scenario;
 
-use crate::util::{afford, repo, scratch_dir};
+use crate::util::{afford, nudge, repo, scratch_dir};
 
 /// The verdicts of the event log, in order, and the outcome.
 fn run(example: &str) -> (Vec<String>, Value) {
@@ -428,8 +428,7 @@ fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
         .as_array_mut()
         .expect("points");
     let middle = points.len() / 2;
-    let q = &mut points[middle]["positions"][1];
-    *q = Value::from(q.as_f64().expect("position") + 0.05);
+    nudge(&mut points[middle]["positions"][1], 0.05);
     let found = classes(&jumped, "jumped.json");
     assert!(found.iter().any(|c| c == "velocity"), "{found:?}");
     let mut whole = written.clone();

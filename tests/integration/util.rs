@@ -124,3 +124,8 @@ pub fn plan_to_file(scenario: &Path, dir: &Path) -> (PathBuf, serde_json::Value)
     let text = std::fs::read_to_string(&out).expect("plan written");
     (out, serde_json::from_str(&text).expect("plan is JSON"))
 }
+
+/// Adds `by` to a number of a plan's JSON (a joint position) in place.
+pub fn nudge(position: &mut serde_json::Value, by: f64) {
+    *position = serde_json::json!(position.as_f64().expect("position") + by);
+}
