@@ -210,7 +210,7 @@ pub enum BenchCommand {
     Ik(BenchIkArgs),
     /// Collision checks: the fast continuous check against dense sampling on random paths, and its speed.
     Collision(BenchSeedArgs),
-    /// Time-parameterisation of seeded 7-joint paths (200 segments), Clarabel.
+    /// Time-optimal path parameterisation: the examples' real paths against the exact reference (ratio, jerk cost, reversals, jerk ratio) and seeded 7-joint paths (speed).
     Timing(BenchSeedArgs),
     /// The whole pipeline on a scenario (default: the embedded one), stage by stage.
     Pipeline(BenchPipelineArgs),
