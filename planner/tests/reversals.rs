@@ -3,6 +3,8 @@
 //! joint's velocity beyond [`REVERSAL_THRESHOLD`]): where they are, and
 //! regression tests for their sources.
 
+use std::collections::BTreeMap;
+
 use afford_planner::lift::LiftedMotion;
 use afford_planner::plan::{PlanOptions, SubgoalPlan, plan};
 use afford_planner::scenario::{Format, parse};
@@ -53,13 +55,15 @@ fn sample_phases(sub: &SubgoalPlan, lifted: &LiftedMotion) -> Vec<String> {
 
 /// Per example sub-goal the most reversals of a joint, and for every joint
 /// with more than 4 each reversal's phase and the joint's excursion since
-/// its previous turn, mrad (not run by default):
+/// its previous turn, mrad; then every joint's reversals by phase and
+/// excursion (< 5, 5–20, ≥ 20 mrad). Not run by default:
 /// `cargo test --release -p afford-planner --test reversals -- --ignored --nocapture diagnose_example_reversals`.
 #[test]
 #[ignore = "measurement: prints where the reversals are"]
 fn diagnose_example_reversals() {
     let options = PlanOptions::default();
     let (mut over, mut total) = (0, 0);
+    let mut by_phase: BTreeMap<String, [usize; 3]> = BTreeMap::new();
     for (name, text) in EXAMPLES {
         let Ok(scenario) = parse(text, Format::Yaml, name) else {
             continue;
@@ -87,7 +91,10 @@ fn diagnose_example_reversals() {
                     }
                     if last != 0.0 && v.signum() != last {
                         let q = p.positions[j];
-                        turns.push(format!("{}:{:.0}", phases[s], 1e3 * (q - extreme).abs()));
+                        let excursion = 1e3 * (q - extreme).abs();
+                        turns.push(format!("{}:{excursion:.0}", phases[s]));
+                        let bucket = usize::from(excursion >= 5.0) + usize::from(excursion >= 20.0);
+                        by_phase.entry(phases[s].clone()).or_default()[bucket] += 1;
                         extreme = q;
                     }
                     last = v.signum();
@@ -103,6 +110,9 @@ fn diagnose_example_reversals() {
         }
     }
     println!("sub-goals over 4: {over} of {total}");
+    for (phase, [small, middle, large]) in by_phase {
+        println!("{phase:>10}: < 5 mrad {small:>4}, 5-20 {middle:>4}, >= 20 {large:>4}");
+    }
 }
 
 /// The iiwa's base joint barely moves on the vertical moves of
