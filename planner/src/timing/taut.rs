@@ -195,7 +195,7 @@ mod tests {
         // Tool: x = joint 2 (the path's progress), y = joint 0 + joint 1;
         // every joint moves the tool 1 m per rad, so each tube is 1.5 mrad.
         let fk = |q: &[f64]| [q[2], q[0] + q[1], 0.0];
-        let zig = |k: usize| if k % 2 == 0 { 1e-3 } else { -1e-3 };
+        let zig = |k: usize| if k.is_multiple_of(2) { 1e-3 } else { -1e-3 };
         let rows: Vec<Vec<f64>> = (0..41)
             .map(|k| {
                 let together = if (3..=8).contains(&k) { zig(k) } else { 0.0 };
