@@ -82,6 +82,7 @@ pub fn scene_box(
         size: [b.w * mu, b.l * mv, height],
         yaw: m[1][0].atan2(m[0][0]),
         margin,
+        round: false,
     }
 }
 
