@@ -4,11 +4,11 @@
 //! relative to the tool frozen at the close, until the open event; released,
 //! it drops vertically onto the goal's floor and must rest wholly inside the
 //! goal's inner walls ([`GOAL_WALL`] thick) without overlapping any other
-//! piece's footprint.
+//! piece's footprint (each piece as its solid: a box, or a round piece's
+//! stadium, [`crate::scene`]).
 
 use afford_planner::Scenario;
 use nalgebra::{Point3, Translation3, Vector3};
-use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, to_parry};
 use crate::scene::{Footprint, GOAL_WALL, Piece, signed_distance};
@@ -77,8 +77,14 @@ pub(crate) fn check(s: &Scenario, goal: usize, piece: &Piece, others: &[&Piece])
     for other in others {
         // The other piece's footprint as a tall prism: overlapping it is
         // overlapping the footprint, whatever the heights.
-        let prism = SharedShape::cuboid(other.half[0], other.half[1], 10.0);
-        let d = signed_distance(&pose, &shape, &to_parry(&other.pose), &prism);
+        let d = other
+            .prism(10.0)
+            .parts()
+            .iter()
+            .map(|(local, part)| {
+                signed_distance(&pose, &shape, &to_parry(&(other.pose * local)), part)
+            })
+            .fold(f64::INFINITY, f64::min);
         if d < -PLACEMENT_TOLERANCE {
             out.push(format!(
                 "{} rests on or in {} (footprints overlap by {:.1} mm)",
@@ -105,6 +111,7 @@ mod tests {
             ),
             half: [0.0625, 0.02, 0.015],
             sensitive: false,
+            round: false,
         }
     }
 

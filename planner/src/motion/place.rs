@@ -11,6 +11,16 @@
 //! rows from one corner. A candidate is free when the object's footprint
 //! keeps [`WALL_CLEARANCE`] from every piece already in the box.
 //!
+//! Footprints ([`Outline`]): a piece is its pixel box, or, when round
+//! ([`is_round`]), the stadium inside that box — the disc of its narrower
+//! side swept along the longer (a disc for a square box), as the collision
+//! scene builds it ([`afford_collision::round_parts`]). Both are a
+//! rectangle grown by a radius (0 for a box), so the distance between two
+//! footprints is the distance between their rectangles minus both radii:
+//! exact for box to box, disc to box and disc to disc. A round piece thus
+//! packs into the corner a square's box leaves, keeping the clearance from
+//! the square's corner.
+//!
 //! Release height ([`Release::floor`]): the object is released above the
 //! wall top, and nothing lowered over the spot reaches below the object's
 //! bottom (the fingertips stay above it). Where what is lowered — the
@@ -27,7 +37,17 @@ use afford_collision::GOAL_WALL;
 
 use crate::error::Refusal;
 use crate::geometry::object_margin;
-use crate::scenario::Scenario;
+use crate::scenario::{Object, Scenario};
+
+/// Shapes whose outline seen from above is round.
+pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
+
+/// Whether `o`'s outline is round (its shape is one of [`ROUND_SHAPES`]).
+pub fn is_round(o: &Object) -> bool {
+    ROUND_SHAPES
+        .iter()
+        .any(|s| s.eq_ignore_ascii_case(&o.shape))
+}
 
 /// Gap kept between the released footprint and the inner walls, and added
 /// to the earlier pieces' margins, m.
@@ -124,12 +144,16 @@ pub fn release_spot(
     };
     let (us, vs) = (axis(0, mu), axis(1, mv));
     let spots = vs.iter().flat_map(|&v| us.iter().map(move |&u| [u, v]));
-    let held = footprint(s, object, None);
-    let lowered = footprint(s, object, opening);
+    let held = Outline::of(s, &s.objects[object]);
+    let lowered = Outline::lowered(s, object, opening);
     let pieces: Vec<usize> = (0..s.objects.len())
         .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
         .collect();
-    let clear = |p: [f64; 2]| pieces.iter().all(|&j| gap(s, held, p, j) >= WALL_CLEARANCE);
+    let clear = |p: [f64; 2]| {
+        pieces
+            .iter()
+            .all(|&j| gap(s, &held, p, j) >= WALL_CLEARANCE)
+    };
     let mut free = spots.filter(|&p| clear(p)).peekable();
     if free.peek().is_none() {
         return Err(NoSpot::Full);
@@ -138,41 +162,73 @@ pub fn release_spot(
     let floor = pieces
         .iter()
         .map(|&j| (j, object_margin(s, &s.objects[j])))
-        .filter(|&(j, margin)| gap(s, lowered, spot, j) < margin + WALL_CLEARANCE)
+        .filter(|&(j, margin)| gap(s, &lowered, spot, j) < margin + WALL_CLEARANCE)
         .map(|(j, margin)| s.top_above_table(&s.objects[j]) + margin)
         .fold(0.0, f64::max);
     Ok(Release { spot, floor })
 }
 
-/// Half sizes (px) of what is lowered over the spot: the object's footprint,
-/// widened to the gripper's half-widths `[along, across]` the grasp axis
-/// (its narrower side in metres).
-fn footprint(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> [f64; 2] {
-    let [mu, mv] = s.metres_per_pixel();
-    let b = s.objects[object].bbox;
-    let mut half = [b.w / 2.0, b.l / 2.0];
-    if let Some([along, across]) = opening {
-        // The fingers close across the narrower side (the tool's y).
-        let across_u = b.w * mu <= b.l * mv;
-        let (gu, gv) = if across_u {
-            (across, along)
-        } else {
-            (along, across)
-        };
-        half = [half[0].max(gu / mu), half[1].max(gv / mv)];
-    }
-    half
+/// A footprint on the table: the points within `radius` of a rectangle
+/// with half sizes `core` along the image axes, both in metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outline {
+    pub core: [f64; 2],
+    pub radius: f64,
 }
 
-/// Distance (m) between the footprint `half` centred at `p` and piece `j`
-/// (0 when they overlap).
-fn gap(s: &Scenario, half: [f64; 2], p: [f64; 2], j: usize) -> f64 {
-    let [mu, mv] = s.metres_per_pixel();
+impl Outline {
+    /// The footprint of object `o` (see the module doc).
+    pub fn of(s: &Scenario, o: &Object) -> Self {
+        let [mu, mv] = s.metres_per_pixel();
+        let half = [o.bbox.w * mu / 2.0, o.bbox.l * mv / 2.0];
+        let radius = match is_round(o) {
+            true => half[0].min(half[1]),
+            false => 0.0,
+        };
+        Self {
+            core: half.map(|h| h - radius),
+            radius,
+        }
+    }
+
+    /// What is lowered over the spot: the object's box (a round one's too:
+    /// the fingers around it reach its box), widened to the gripper's
+    /// half-widths `[along, across]` the grasp axis (the fingers close
+    /// across its narrower side in metres).
+    fn lowered(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> Self {
+        let [mu, mv] = s.metres_per_pixel();
+        let b = s.objects[object].bbox;
+        let mut half = [b.w * mu / 2.0, b.l * mv / 2.0];
+        if let Some([along, across]) = opening {
+            let across_u = half[0] <= half[1];
+            let (gu, gv) = if across_u {
+                (across, along)
+            } else {
+                (along, across)
+            };
+            half = [half[0].max(gu), half[1].max(gv)];
+        }
+        Self {
+            core: half,
+            radius: 0.0,
+        }
+    }
+
+    /// Distance (m) between this footprint centred at `p` and `other`
+    /// centred at `q` (pixels), 0 when they overlap.
+    pub fn gap(&self, s: &Scenario, p: [f64; 2], other: &Self, q: [f64; 2]) -> f64 {
+        let [mu, mv] = s.metres_per_pixel();
+        let d = [(p[0] - q[0]) * mu, (p[1] - q[1]) * mv];
+        let [du, dv] = [0, 1].map(|k| (d[k].abs() - self.core[k] - other.core[k]).max(0.0));
+        (du.hypot(dv) - self.radius - other.radius).max(0.0)
+    }
+}
+
+/// Distance (m) between the footprint `outline` centred at `p` and piece
+/// `j` where it lies (0 when they overlap).
+fn gap(s: &Scenario, outline: &Outline, p: [f64; 2], j: usize) -> f64 {
     let o = &s.objects[j];
-    let c = o.bbox.centre();
-    let du = ((p[0] - c[0]).abs() - half[0] - o.bbox.w / 2.0).max(0.0) * mu;
-    let dv = ((p[1] - c[1]).abs() - half[1] - o.bbox.l / 2.0).max(0.0) * mv;
-    du.hypot(dv)
+    outline.gap(s, p, &Outline::of(s, o), o.bbox.centre())
 }
 
 #[cfg(test)]
@@ -194,8 +250,8 @@ mod tests {
 
     /// Gap (m) between the plain footprints of objects `a` and `b`.
     fn footprint_gap(s: &Scenario, a: usize, b: usize) -> f64 {
-        let half = footprint(s, a, None);
-        gap(s, half, s.objects[a].bbox.centre(), b)
+        let outline = Outline::of(s, &s.objects[a]);
+        gap(s, &outline, s.objects[a].bbox.centre(), b)
     }
 
     /// Releases `object` into the left box and leaves it where it lands.
@@ -251,8 +307,8 @@ mod tests {
         let second = release(&mut s, 1, Some(gripper));
         let margin = s.safety.obstacle_margin;
         assert!((footprint_gap(&s, 1, 0) - WALL_CLEARANCE).abs() < 2e-3);
-        let lowered = footprint(&s, 1, Some(gripper));
-        let sideways = gap(&s, lowered, second.spot, 0) >= margin + WALL_CLEARANCE;
+        let lowered = Outline::lowered(&s, 1, Some(gripper));
+        let sideways = gap(&s, &lowered, second.spot, 0) >= margin + WALL_CLEARANCE;
         let over = second.floor >= s.objects[0].height + margin - 1e-12;
         assert!(sideways || over, "{second:?}");
         assert!(over, "the open fingers reach the neighbour sideways here");
