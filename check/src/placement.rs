@@ -129,4 +129,73 @@ mod tests {
         let down = dropped(&p.pose, &p.half, 0.1);
         assert!((down.translation.vector.z - 0.115).abs() < 1e-12);
     }
+
+    /// A 40 mm piece on the floor of a box, its centre at `(x, y)`.
+    fn standing(name: &str, x: f64, y: f64, round: bool) -> Piece {
+        Piece {
+            name: name.into(),
+            pose: Iso::translation(x, y, 0.02),
+            half: [0.02, 0.02, 0.02],
+            sensitive: false,
+            round,
+        }
+    }
+
+    #[test]
+    fn round_piece_beside_a_square_corner_keeps_its_room() {
+        // Diagonally past the square's corner: the boxes overlap by 2 mm
+        // along each axis, the disc is clear of the corner by
+        // hypot(0.022, 0.022) - 0.02 = 11 mm.
+        let square = standing("square", 0.0, 0.0, false);
+        let overlaps = |p: &Piece, q: &Piece| {
+            let d = q
+                .prism(10.0)
+                .parts()
+                .iter()
+                .map(|(local, part)| {
+                    signed_distance(
+                        &to_parry(&p.pose),
+                        &p.shape(),
+                        &to_parry(&(q.pose * local)),
+                        part,
+                    )
+                })
+                .fold(f64::INFINITY, f64::min);
+            d < -PLACEMENT_TOLERANCE
+        };
+        let disc = standing("disc", 0.038, 0.038, true);
+        assert!(!overlaps(&disc, &square));
+        assert!(!overlaps(&square, &disc));
+        let boxed = standing("box", 0.038, 0.038, false);
+        assert!(overlaps(&boxed, &square));
+        // Beside a side the disc reaches as far as its box.
+        let beside = standing("disc", 0.039, 0.0, true);
+        assert!(overlaps(&beside, &square));
+        // Two discs diagonally: clear; head on: overlapping.
+        assert!(!overlaps(&disc, &standing("d", 0.0, 0.0, true)));
+        assert!(overlaps(
+            &standing("d", 0.039, 0.0, true),
+            &standing("e", 0.0, 0.0, true)
+        ));
+    }
+
+    #[test]
+    fn a_round_piece_is_a_stadium_inside_its_box() {
+        let p = Piece {
+            half: [0.02, 0.03, 0.01],
+            ..standing("stadium", 0.0, 0.0, true)
+        };
+        let shape = p.shape();
+        let inside = |x: f64, y: f64| {
+            let at = parry3d::math::Vector::new(x, y, 0.029);
+            shape.contains_point(&to_parry(&p.pose), at)
+        };
+        // The inscribed ellipse is inside; the box's corners are not.
+        for k in 0..32 {
+            let t = k as f64 * std::f64::consts::TAU / 32.0;
+            assert!(inside(0.0199 * t.cos(), 0.0299 * t.sin()), "angle {t}");
+        }
+        assert!(!inside(0.0195, 0.0295));
+        assert!(!inside(0.0, 0.0301) && !inside(0.0201, 0.0));
+    }
 }

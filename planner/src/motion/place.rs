@@ -348,4 +348,99 @@ mod tests {
         assert!(side <= 0.026, "{side}");
         assert!(placed >= s.objects.len().min(3), "{placed} placed");
     }
+
+    /// Scene 265 of the transits bench (sizes in mm): a 49.0 x 53.6 square
+    /// and a 38.6 x 39.3 piece of `shape` for a 105.4 x 112.7 box, the
+    /// square already released into the box's first corner.
+    fn square_then(shape: &str) -> Scenario {
+        let mut s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        let px = |w: f64, l: f64| [w / 1e3 / mu, l / 1e3 / mv];
+        let [gw, gl] = px(105.4, 112.7);
+        s.goals[0].bbox = PixelBox::from([20.0, 300.0, gw, gl]);
+        let [w, l] = px(49.0, 53.6);
+        s.objects[0].bbox = PixelBox::from([300.0, 60.0, w, l]);
+        let [w, l] = px(38.6, 39.3);
+        s.objects[1].bbox = PixelBox::from([400.0, 60.0, w, l]);
+        s.objects[1].shape = shape.into();
+        release(&mut s, 0, None);
+        s
+    }
+
+    #[test]
+    fn round_piece_packs_into_the_corner_beside_a_square() {
+        let mut s = square_then("circle");
+        let spot = release(&mut s, 1, None).spot;
+        let gap = footprint_gap(&s, 1, 0);
+        assert!(gap >= WALL_CLEARANCE, "{gap}");
+        // The boxes alone would not keep the clearance there: it is the
+        // disc's room in the corner the square's box leaves.
+        let [mu, mv] = s.metres_per_pixel();
+        let (a, b) = (s.objects[0].bbox, s.objects[1].bbox);
+        let apart = |d: f64, wa: f64, wb: f64, mpp: f64| (d.abs() - (wa + wb) / 2.0).max(0.0) * mpp;
+        let du = apart(spot[0] - a.centre()[0], a.w, b.w, mu);
+        let dv = apart(spot[1] - a.centre()[1], a.l, b.l, mv);
+        assert!(du.hypot(dv) < WALL_CLEARANCE, "{du} {dv}");
+        // A square of the same box finds no spot.
+        let square = square_then("square");
+        assert_eq!(
+            release_spot(&square, 1, 0, None, |_| true),
+            Err(NoSpot::Full)
+        );
+    }
+
+    #[test]
+    fn outline_gap_is_exact_for_boxes_discs_and_stadiums() {
+        let s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        let at = |x: f64, y: f64| [x / mu, y / mv];
+        let square = Outline {
+            core: [0.02, 0.01],
+            radius: 0.0,
+        };
+        let disc = Outline {
+            core: [0.0, 0.0],
+            radius: 0.015,
+        };
+        let stadium = Outline {
+            core: [0.005, 0.0],
+            radius: 0.015,
+        };
+        let o = at(0.0, 0.0);
+        let cases = [
+            // Box to box, side by side and past a corner.
+            (square, at(0.1, 0.0), square, 0.06),
+            (square, at(0.1, 0.05), square, 0.06f64.hypot(0.03)),
+            // Disc to box: beside a side, past a corner.
+            (disc, at(0.05, 0.0), square, 0.015),
+            (disc, at(0.05, 0.04), square, 0.03f64.hypot(0.03) - 0.015),
+            // Disc to disc, stadium to disc along the stadium's axis.
+            (disc, at(0.03, 0.04), disc, 0.02),
+            (stadium, at(0.1, 0.0), disc, 0.1 - 0.005 - 0.03),
+            // Overlapping: 0.
+            (disc, at(0.02, 0.0), square, 0.0),
+        ];
+        for (a, q, b, expected) in cases {
+            let d = a.gap(&s, o, &b, q);
+            assert!((d - expected).abs() < 1e-12, "{a:?} {b:?} at {q:?}: {d}");
+            assert!((b.gap(&s, q, &a, o) - d).abs() < 1e-15, "symmetric");
+        }
+    }
+
+    #[test]
+    fn a_round_piece_is_the_stadium_inside_its_box() {
+        let mut s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        s.objects[0].bbox = PixelBox::from([100.0, 100.0, 0.04 / mu, 0.05 / mv]);
+        for shape in ["circle", "Cylinder", "disc"] {
+            s.objects[0].shape = shape.into();
+            let o = Outline::of(&s, &s.objects[0]);
+            assert!((o.radius - 0.02).abs() < 1e-12, "{shape}: {o:?}");
+            assert!(o.core[0].abs() < 1e-12 && (o.core[1] - 0.005).abs() < 1e-12);
+        }
+        s.objects[0].shape = "hexagon".into();
+        let o = Outline::of(&s, &s.objects[0]);
+        assert_eq!(o.radius, 0.0);
+        assert!((o.core[0] - 0.02).abs() < 1e-12 && (o.core[1] - 0.025).abs() < 1e-12);
+    }
 }
