@@ -168,8 +168,8 @@ pub fn release_spot(
     Ok(Release { spot, floor })
 }
 
-/// A footprint on the table: the points within `radius` of a rectangle
-/// with half sizes `core` along the image axes, both in metres.
+/// A footprint on the table: the points within `radius` (m) of a rectangle
+/// with half sizes `core` (px) along the image axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outline {
     pub core: [f64; 2],
@@ -180,33 +180,33 @@ impl Outline {
     /// The footprint of object `o` (see the module doc).
     pub fn of(s: &Scenario, o: &Object) -> Self {
         let [mu, mv] = s.metres_per_pixel();
-        let half = [o.bbox.w * mu / 2.0, o.bbox.l * mv / 2.0];
+        let b = o.bbox;
         let radius = match is_round(o) {
-            true => half[0].min(half[1]),
+            true => (b.w * mu).min(b.l * mv) / 2.0,
             false => 0.0,
         };
         Self {
-            core: half.map(|h| h - radius),
+            core: [b.w / 2.0 - radius / mu, b.l / 2.0 - radius / mv],
             radius,
         }
     }
 
     /// What is lowered over the spot: the object's box (a round one's too:
     /// the fingers around it reach its box), widened to the gripper's
-    /// half-widths `[along, across]` the grasp axis (the fingers close
+    /// half-widths `[along, across]` the grasp axis (m; the fingers close
     /// across its narrower side in metres).
     fn lowered(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> Self {
         let [mu, mv] = s.metres_per_pixel();
         let b = s.objects[object].bbox;
-        let mut half = [b.w * mu / 2.0, b.l * mv / 2.0];
+        let mut half = [b.w / 2.0, b.l / 2.0];
         if let Some([along, across]) = opening {
-            let across_u = half[0] <= half[1];
+            let across_u = b.w * mu <= b.l * mv;
             let (gu, gv) = if across_u {
                 (across, along)
             } else {
                 (along, across)
             };
-            half = [half[0].max(gu), half[1].max(gv)];
+            half = [half[0].max(gu / mu), half[1].max(gv / mv)];
         }
         Self {
             core: half,
@@ -218,8 +218,8 @@ impl Outline {
     /// centred at `q` (pixels), 0 when they overlap.
     pub fn gap(&self, s: &Scenario, p: [f64; 2], other: &Self, q: [f64; 2]) -> f64 {
         let [mu, mv] = s.metres_per_pixel();
-        let d = [(p[0] - q[0]) * mu, (p[1] - q[1]) * mv];
-        let [du, dv] = [0, 1].map(|k| (d[k].abs() - self.core[k] - other.core[k]).max(0.0));
+        let apart = |k: usize| (p[k] - q[k]).abs() - self.core[k] - other.core[k];
+        let (du, dv) = (apart(0).max(0.0) * mu, apart(1).max(0.0) * mv);
         (du.hypot(dv) - self.radius - other.radius).max(0.0)
     }
 }
@@ -395,7 +395,7 @@ mod tests {
         let [mu, mv] = s.metres_per_pixel();
         let at = |x: f64, y: f64| [x / mu, y / mv];
         let square = Outline {
-            core: [0.02, 0.01],
+            core: [0.02 / mu, 0.01 / mv],
             radius: 0.0,
         };
         let disc = Outline {
@@ -403,7 +403,7 @@ mod tests {
             radius: 0.015,
         };
         let stadium = Outline {
-            core: [0.005, 0.0],
+            core: [0.005 / mu, 0.0],
             radius: 0.015,
         };
         let o = at(0.0, 0.0);
@@ -436,11 +436,11 @@ mod tests {
             s.objects[0].shape = shape.into();
             let o = Outline::of(&s, &s.objects[0]);
             assert!((o.radius - 0.02).abs() < 1e-12, "{shape}: {o:?}");
-            assert!(o.core[0].abs() < 1e-12 && (o.core[1] - 0.005).abs() < 1e-12);
+            assert!(o.core[0].abs() < 1e-9 && (o.core[1] * mv - 0.005).abs() < 1e-12);
         }
         s.objects[0].shape = "hexagon".into();
         let o = Outline::of(&s, &s.objects[0]);
         assert_eq!(o.radius, 0.0);
-        assert!((o.core[0] - 0.02).abs() < 1e-12 && (o.core[1] - 0.025).abs() < 1e-12);
+        assert!((o.core[0] * mu - 0.02).abs() < 1e-12 && (o.core[1] * mv - 0.025).abs() < 1e-12);
     }
 }
