@@ -55,6 +55,7 @@ pub fn physics_scene(
                 size: [f.size[0], f.size[1], height],
                 yaw: f.yaw,
                 margin: 0.0,
+                round: false,
             }
         })
         .collect();

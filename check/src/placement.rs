@@ -4,11 +4,11 @@
 //! relative to the tool frozen at the close, until the open event; released,
 //! it drops vertically onto the goal's floor and must rest wholly inside the
 //! goal's inner walls ([`GOAL_WALL`] thick) without overlapping any other
-//! piece's footprint.
+//! piece's footprint (each piece as its solid: a box, or a round piece's
+//! stadium, [`crate::scene`]).
 
 use afford_planner::Scenario;
 use nalgebra::{Point3, Translation3, Vector3};
-use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, to_parry};
 use crate::scene::{Footprint, GOAL_WALL, Piece, signed_distance};
@@ -77,8 +77,14 @@ pub(crate) fn check(s: &Scenario, goal: usize, piece: &Piece, others: &[&Piece])
     for other in others {
         // The other piece's footprint as a tall prism: overlapping it is
         // overlapping the footprint, whatever the heights.
-        let prism = SharedShape::cuboid(other.half[0], other.half[1], 10.0);
-        let d = signed_distance(&pose, &shape, &to_parry(&other.pose), &prism);
+        let d = other
+            .prism(10.0)
+            .parts()
+            .iter()
+            .map(|(local, part)| {
+                signed_distance(&pose, &shape, &to_parry(&(other.pose * local)), part)
+            })
+            .fold(f64::INFINITY, f64::min);
         if d < -PLACEMENT_TOLERANCE {
             out.push(format!(
                 "{} rests on or in {} (footprints overlap by {:.1} mm)",
@@ -105,6 +111,7 @@ mod tests {
             ),
             half: [0.0625, 0.02, 0.015],
             sensitive: false,
+            round: false,
         }
     }
 
@@ -121,5 +128,74 @@ mod tests {
         let p = piece(0.0, 0.3);
         let down = dropped(&p.pose, &p.half, 0.1);
         assert!((down.translation.vector.z - 0.115).abs() < 1e-12);
+    }
+
+    /// A 40 mm piece on the floor of a box, its centre at `(x, y)`.
+    fn standing(name: &str, x: f64, y: f64, round: bool) -> Piece {
+        Piece {
+            name: name.into(),
+            pose: Iso::translation(x, y, 0.02),
+            half: [0.02, 0.02, 0.02],
+            sensitive: false,
+            round,
+        }
+    }
+
+    #[test]
+    fn round_piece_beside_a_square_corner_keeps_its_room() {
+        // Diagonally past the square's corner: the boxes overlap by 2 mm
+        // along each axis, the disc is clear of the corner by
+        // hypot(0.022, 0.022) - 0.02 = 11 mm.
+        let square = standing("square", 0.0, 0.0, false);
+        let overlaps = |p: &Piece, q: &Piece| {
+            let d = q
+                .prism(10.0)
+                .parts()
+                .iter()
+                .map(|(local, part)| {
+                    signed_distance(
+                        &to_parry(&p.pose),
+                        &p.shape(),
+                        &to_parry(&(q.pose * local)),
+                        part,
+                    )
+                })
+                .fold(f64::INFINITY, f64::min);
+            d < -PLACEMENT_TOLERANCE
+        };
+        let disc = standing("disc", 0.038, 0.038, true);
+        assert!(!overlaps(&disc, &square));
+        assert!(!overlaps(&square, &disc));
+        let boxed = standing("box", 0.038, 0.038, false);
+        assert!(overlaps(&boxed, &square));
+        // Beside a side the disc reaches as far as its box.
+        let beside = standing("disc", 0.039, 0.0, true);
+        assert!(overlaps(&beside, &square));
+        // Two discs diagonally: clear; head on: overlapping.
+        assert!(!overlaps(&disc, &standing("d", 0.0, 0.0, true)));
+        assert!(overlaps(
+            &standing("d", 0.039, 0.0, true),
+            &standing("e", 0.0, 0.0, true)
+        ));
+    }
+
+    #[test]
+    fn a_round_piece_is_a_stadium_inside_its_box() {
+        let p = Piece {
+            half: [0.02, 0.03, 0.01],
+            ..standing("stadium", 0.0, 0.0, true)
+        };
+        let shape = p.shape();
+        let inside = |x: f64, y: f64| {
+            let at = parry3d::math::Vector::new(x, y, 0.029);
+            shape.contains_point(&to_parry(&p.pose), at)
+        };
+        // The inscribed ellipse is inside; the box's corners are not.
+        for k in 0..32 {
+            let t = k as f64 * std::f64::consts::TAU / 32.0;
+            assert!(inside(0.0199 * t.cos(), 0.0299 * t.sin()), "angle {t}");
+        }
+        assert!(!inside(0.0195, 0.0295));
+        assert!(!inside(0.0, 0.0301) && !inside(0.0201, 0.0));
     }
 }

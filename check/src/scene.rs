@@ -1,8 +1,12 @@
 //! The scene rebuilt from the scenario file, in metres, robot base frame:
 //! every pixel box through `camera.pixel_to_base` to a footprint on the table
 //! (centre, size along the image axes, yaw of the image u axis), standing on
-//! `table_z` with its height. Objects are solid boxes whose pose the check
-//! tracks from sub-goal to sub-goal; hands are solid boxes; goals are open
+//! `table_z` with its height. Objects are solids whose pose the check
+//! tracks from sub-goal to sub-goal: boxes, or, when their shape is round
+//! ([`crate::physics::ROUND_SHAPES`]), the upright stadium inside the box —
+//! two cylinders of the narrower side's radius at the ends of the longer
+//! side and the box between their axes (one cylinder for a square box),
+//! which contains the ellipse inscribed in the box; hands are solid boxes; goals are open
 //! boxes (a floor and four walls [`GOAL_WALL`] thick, inside the footprint);
 //! the table is a slab [`TABLE_THICKNESS`] thick under the image's footprint.
 //!
@@ -13,10 +17,13 @@
 
 use afford_planner::Scenario;
 use afford_planner::scenario::PixelBox;
+use std::f64::consts::FRAC_PI_2;
+
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, to_parry};
+use crate::physics::ROUND_SHAPES;
 
 /// Wall and floor thickness of a goal box, m (the value of the collision
 /// crate's `GOAL_WALL`, copied: the boxes are the scenario's, not afford's).
@@ -69,11 +76,58 @@ pub(crate) struct Piece {
     pub pose: Iso,
     pub half: [f64; 3],
     pub sensitive: bool,
+    /// Its outline is round: the stadium inside `half` (module doc).
+    pub round: bool,
 }
 
 impl Piece {
+    /// The solid in the piece's frame (one shape; a compound when round).
     pub(crate) fn shape(&self) -> SharedShape {
-        SharedShape::cuboid(self.half[0], self.half[1], self.half[2])
+        match self.round {
+            true => SharedShape::compound(
+                self.parts()
+                    .iter()
+                    .map(|(pose, shape)| (to_parry(pose), shape.clone()))
+                    .collect(),
+            ),
+            false => SharedShape::cuboid(self.half[0], self.half[1], self.half[2]),
+        }
+    }
+
+    /// The solid's convex parts posed in the piece's frame.
+    pub(crate) fn parts(&self) -> Vec<(Iso, SharedShape)> {
+        let [hx, hy, hz] = self.half;
+        if !self.round {
+            return vec![(Iso::identity(), SharedShape::cuboid(hx, hy, hz))];
+        }
+        let r = hx.min(hy);
+        // Where the two cylinders' axes stand: along the longer side.
+        let end = Vector3::new(hx - r, hy - r, 0.0);
+        // parry's cylinder axis is its y: stood up about x.
+        let upright = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), FRAC_PI_2);
+        let cylinder = |at: Vector3<f64>| {
+            (
+                Iso::from_parts(Translation3::from(at), upright),
+                SharedShape::cylinder(hz, r),
+            )
+        };
+        if end.x <= 0.0 && end.y <= 0.0 {
+            return vec![cylinder(Vector3::zeros())];
+        }
+        // The box between the axes, as wide as the cylinders.
+        let between = match end.x > 0.0 {
+            true => SharedShape::cuboid(end.x, hy, hz),
+            false => SharedShape::cuboid(hx, end.y, hz),
+        };
+        vec![cylinder(end), (Iso::identity(), between), cylinder(-end)]
+    }
+
+    /// The piece's footprint as a prism `2 half_height` tall about its pose.
+    pub(crate) fn prism(&self, half_height: f64) -> Self {
+        Self {
+            half: [self.half[0], self.half[1], half_height],
+            ..self.clone()
+        }
     }
 }
 
@@ -88,6 +142,9 @@ pub(crate) fn pieces(s: &Scenario) -> Vec<Piece> {
                 pose: f.pose(s.camera.table_z, o.height),
                 half: [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * o.height],
                 sensitive: s.is_sensitive(o),
+                round: ROUND_SHAPES
+                    .iter()
+                    .any(|r| r.eq_ignore_ascii_case(&o.shape)),
             }
         })
         .collect()
@@ -129,8 +186,14 @@ impl Obstacle {
 
     pub(crate) fn piece(p: &Piece, margin: f64, role: Role) -> Self {
         Self {
+            name: p.name.clone(),
+            margin,
             role,
-            ..Self::solid(&p.name, margin, &p.pose, p.half)
+            parts: p
+                .parts()
+                .into_iter()
+                .map(|(local, shape)| (to_parry(&(p.pose * local)), shape))
+                .collect(),
         }
     }
 }

@@ -30,6 +30,7 @@ fn bx(name: &str, kind: BoxKind, c: [f64; 2], size: [f64; 3], margin: f64) -> Sc
         size,
         yaw: 0.0,
         margin,
+        round: false,
     }
 }
 

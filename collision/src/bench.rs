@@ -84,6 +84,7 @@ fn random_box(rng: &mut impl Rng, i: usize, low: bool) -> SceneBox {
         size,
         yaw: rng.random_range(-1.5..1.5),
         margin,
+        round: false,
     }
 }
 
@@ -124,6 +125,7 @@ pub fn random_case(model: &RobotModel, seed: u64) -> BenchCase {
             rng.random_range(0.02..0.06),
             rng.random_range(0.02..0.05),
         ],
+        round: false,
         pose_tool_object: pose_from_xyz_rpy([0.0, 0.0, 0.02], [0.0, 0.0, 0.0]),
     });
     BenchCase {

@@ -350,11 +350,7 @@ impl RobotGeometry {
         if let Some(a) = &opts.attached {
             a.validate()?;
             local.push(a.pose_tool_object);
-            shapes.push(SharedShape::cuboid(
-                a.half_extents[0],
-                a.half_extents[1],
-                a.half_extents[2],
-            ));
+            shapes.push(a.shape());
             names.push(format!("held:{}", a.name));
         }
         let reach: Vec<f64> = shapes
@@ -467,7 +463,7 @@ impl RobotGeometry {
         a.validate()?;
         let arm = self.arm_of(opts)?;
         let tool_link = self.model.link_index(&arm.tool_link)?;
-        let shape = SharedShape::cuboid(a.half_extents[0], a.half_extents[1], a.half_extents[2]);
+        let shape = a.shape();
         let body = self.body(
             tool_link,
             format!("held:{}", a.name),

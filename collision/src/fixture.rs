@@ -143,6 +143,7 @@ impl Fixture {
         let attached = self.held.as_ref().map(|h| Attachment {
             name: h.name.clone(),
             half_extents: [0.5 * h.size[0], 0.5 * h.size[1], 0.5 * h.size[2]],
+            round: false,
             pose_tool_object: Translation3::from(Vector3::from(h.offset)).into(),
         });
         let opts = PathOptions {

@@ -56,4 +56,5 @@ pub use fixture::{
 pub use robot::{Attachment, RobotGeometry};
 pub use scene::{
     BoxKind, GOAL_WALL, Obstacle, Scene, SceneBox, SceneSpec, TABLE_THICKNESS, TableSpec,
+    round_parts,
 };

@@ -35,6 +35,9 @@ pub struct Attachment {
     pub name: String,
     /// Half sizes of the held box, metres.
     pub half_extents: [f64; 3],
+    /// The object is round: the stadium prism inside the box
+    /// ([`crate::scene::round_parts`]), as in the scene.
+    pub round: bool,
     /// Pose of the box centre in the tool frame (`pose_tool_object`).
     pub pose_tool_object: Pose,
 }
@@ -51,8 +54,14 @@ impl Attachment {
         Self {
             name: b.name.clone(),
             half_extents: [0.5 * b.size[0], 0.5 * b.size[1], 0.5 * b.size[2]],
+            round: b.round,
             pose_tool_object: pose_base_tool.inverse() * pose_base_object,
         }
+    }
+
+    /// The held solid in its own frame (centre of its box).
+    pub(crate) fn shape(&self) -> SharedShape {
+        crate::scene::object_shape(self.half_extents, self.round)
     }
 
     pub(crate) fn validate(&self) -> Result<(), CollisionError> {

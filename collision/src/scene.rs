@@ -8,6 +8,12 @@
 //!   `table_z`), footprint `size[0] x size[1]` rotated by `yaw`, height
 //!   `size[2]`. A hand is modelled as its bounding box (it contains any
 //!   capsule fitted to the hand, so it is the conservative choice);
+//! - a round object (`round`: a circle, cylinder or disc seen from above):
+//!   an upright stadium prism, [`round_parts`] — the disc of the footprint's
+//!   narrower side swept along its longer one (a cylinder when the
+//!   footprint is square). It lies inside the footprint and contains the
+//!   ellipse inscribed in it, so it is the piece whatever its outline
+//!   between a disc and that ellipse, without the box's empty corners;
 //! - a goal: an OPEN box — a floor and four walls, each [`GOAL_WALL`] thick,
 //!   inside the footprint; the top is open, so a held object can go in.
 //!
@@ -61,6 +67,10 @@ pub struct SceneBox {
     /// Safety perimeter around the box (0 = touch only).
     #[serde(default)]
     pub margin: f64,
+    /// An object whose outline is round (see the module doc): a stadium
+    /// prism inside the footprint instead of the box. Objects only.
+    #[serde(default)]
+    pub round: bool,
 }
 
 /// The table top rectangle (x, y) in the base frame.
@@ -151,6 +161,9 @@ impl Scene {
             }
             finite(&field("yaw"), b.yaw)?;
             margin_ok(&field("margin"), b.margin)?;
+            if b.round && b.kind != BoxKind::Object {
+                return Err(scene_err(field("round"), "only an object may be round"));
+            }
             if scene.obstacles.iter().any(|o| o.name == b.name) {
                 return Err(scene_err(field("name"), "name is used twice"));
             }
@@ -190,12 +203,20 @@ impl Scene {
                 }
             } else {
                 let half = [0.5 * sx, 0.5 * sy, 0.5 * sz];
-                scene.push_part(
-                    obstacle,
-                    half,
-                    [b.centre[0], b.centre[1], z0 + 0.5 * sz],
-                    b.yaw,
+                let pose = PPose::from_parts(
+                    PVec::new(b.centre[0], b.centre[1], z0 + 0.5 * sz),
+                    PRot::from_rotation_z(b.yaw),
                 );
+                let parts = match b.round {
+                    true => round_parts(half),
+                    false => vec![(
+                        PPose::IDENTITY,
+                        SharedShape::cuboid(half[0], half[1], half[2]),
+                    )],
+                };
+                for (local, shape) in parts {
+                    scene.push_shape(obstacle, shape, pose * local);
+                }
             }
         }
         Ok(scene)
@@ -226,6 +247,10 @@ impl Scene {
             PVec::new(centre[0], centre[1], centre[2]),
             PRot::from_rotation_z(yaw),
         );
+        self.push_shape(obstacle, shape, pose);
+    }
+
+    fn push_shape(&mut self, obstacle: usize, shape: SharedShape, pose: PPose) {
         let aabb = shape.compute_aabb(&pose);
         self.parts.push(Part {
             obstacle,
@@ -233,6 +258,43 @@ impl Scene {
             pose,
             aabb,
         });
+    }
+}
+
+/// A round object of half sizes `half` (footprint x, y and height, m) as
+/// convex parts posed in the object's frame (centre of its box, z up): the
+/// stadium prism — an upright cylinder of radius `min(half x, half y)` at
+/// each end of the longer axis and the box between them (one cylinder when
+/// the footprint is square). Each part lies inside the box.
+pub fn round_parts(half: [f64; 3]) -> Vec<(PPose, SharedShape)> {
+    let radius = half[0].min(half[1]);
+    let reach = [half[0] - radius, half[1] - radius];
+    // parry's cylinder stands along its y axis: turned upright about x.
+    let upright = PRot::from_rotation_x(std::f64::consts::FRAC_PI_2);
+    let cylinder = |sign: f64| {
+        let at = PVec::new(sign * reach[0], sign * reach[1], 0.0);
+        (
+            PPose::from_parts(at, upright),
+            SharedShape::cylinder(half[2], radius),
+        )
+    };
+    if reach[0].max(reach[1]) <= 0.0 {
+        return vec![cylinder(0.0)];
+    }
+    // The box between the two cylinders' axes, as wide as they are.
+    let core = match reach[0] > 0.0 {
+        true => SharedShape::cuboid(reach[0], half[1], half[2]),
+        false => SharedShape::cuboid(half[0], reach[1], half[2]),
+    };
+    vec![cylinder(-1.0), (PPose::IDENTITY, core), cylinder(1.0)]
+}
+
+/// The solid of an object of half sizes `half` (m) in its own frame: its
+/// box, or its [`round_parts`] as one compound shape when `round`.
+pub(crate) fn object_shape(half: [f64; 3], round: bool) -> SharedShape {
+    match round {
+        true => SharedShape::compound(round_parts(half)),
+        false => SharedShape::cuboid(half[0], half[1], half[2]),
     }
 }
 
@@ -279,6 +341,7 @@ mod tests {
                 size: [0.2, 0.1, 0.1],
                 yaw: 0.3,
                 margin: 0.0,
+                round: false,
             }],
         }
     }
@@ -308,5 +371,111 @@ mod tests {
         let mut s = spec();
         s.boxes[0].margin = f64::NAN;
         assert!(Scene::from_spec(&s).is_err());
+    }
+
+    /// The distance from `point` to obstacle `o`'s nearest part.
+    fn distance_to(s: &Scene, o: usize, point: [f64; 3]) -> f64 {
+        let probe = SharedShape::ball(1e-9);
+        let at = PPose::translation(point[0], point[1], point[2]);
+        s.parts
+            .iter()
+            .filter(|p| p.obstacle == o)
+            .map(|p| {
+                parry3d::query::distance(&at, probe.as_ref(), &p.pose, p.shape.as_ref())
+                    .unwrap()
+                    .distance
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn round_piece(size: [f64; 3], yaw: f64) -> Scene {
+        Scene::from_spec(&SceneSpec {
+            table_z: 0.1,
+            table: None,
+            boxes: vec![SceneBox {
+                name: "red circle".into(),
+                kind: BoxKind::Object,
+                centre: [0.5, 0.2],
+                size,
+                yaw,
+                margin: 0.02,
+                round: true,
+            }],
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn round_piece_is_a_stadium_inside_its_box_around_its_ellipse() {
+        for (size, yaw) in [([0.04, 0.04, 0.03], 0.0), ([0.04, 0.05, 0.03], 0.4)] {
+            let s = round_piece(size, yaw);
+            let (c, sn) = (yaw.cos(), yaw.sin());
+            let at = |x: f64, y: f64, z: f64| [0.5 + c * x - sn * y, 0.2 + sn * x + c * y, z];
+            let (a, b) = (0.5 * size[0], 0.5 * size[1]);
+            for k in 0..64 {
+                let t = k as f64 * std::f64::consts::TAU / 64.0;
+                // On the inscribed ellipse at mid-height and at the top: inside.
+                for z in [0.115, 0.1299] {
+                    let d = distance_to(&s, 0, at(0.999 * a * t.cos(), 0.999 * b * t.sin(), z));
+                    assert_eq!(d, 0.0, "{size:?} angle {t}");
+                }
+                // Just outside the box: outside.
+                let (x, y) = (t.cos(), t.sin());
+                let scale = 1.001 / (x.abs() / a).max(y.abs() / b);
+                assert!(distance_to(&s, 0, at(scale * x, scale * y, 0.115)) > 0.0);
+            }
+            // The box's corner is empty: its distance to the disc end.
+            let r = a.min(b);
+            let corner = distance_to(&s, 0, at(0.999 * a, 0.999 * b, 0.115));
+            let expected = (0.999 * a - (a - r)).hypot(0.999 * b - (b - r)) - r;
+            assert!((corner - expected).abs() < 1e-8, "{corner} {expected}");
+            assert!(corner > 0.005, "{corner}");
+        }
+    }
+
+    #[test]
+    fn round_held_object_measures_its_distance_to_a_round_piece() {
+        // Two 0.04 x 0.05 stadiums side by side along x, 0.1 m apart: their
+        // discs are 0.06 m apart; a box held there 0.06 m too.
+        let held = object_shape([0.02, 0.025, 0.015], true);
+        let boxed = object_shape([0.02, 0.025, 0.015], false);
+        let s = round_piece([0.04, 0.05, 0.03], 0.0);
+        let at = PPose::translation(0.6, 0.2, 0.115);
+        for shape in [&held, &boxed] {
+            let d = s
+                .parts
+                .iter()
+                .map(|p| {
+                    parry3d::query::distance(&at, shape.as_ref(), &p.pose, p.shape.as_ref())
+                        .unwrap()
+                        .distance
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!((d - 0.06).abs() < 1e-9, "{d}");
+        }
+        // Diagonally, corner to corner, the round ones keep more room.
+        let diagonal = PPose::translation(0.55, 0.26, 0.115);
+        let gap = |shape: &SharedShape| {
+            s.parts
+                .iter()
+                .map(|p| {
+                    parry3d::query::distance(&diagonal, shape.as_ref(), &p.pose, p.shape.as_ref())
+                        .unwrap()
+                        .distance
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        // Disc centres (0.5, 0.205) and (0.55, 0.255): 0.0707 - 0.04.
+        let expected = 0.05f64.hypot(0.05) - 0.04;
+        assert!((gap(&held) - expected).abs() < 1e-9, "{}", gap(&held));
+        assert!(gap(&boxed) < gap(&held));
+    }
+
+    #[test]
+    fn only_objects_may_be_round() {
+        let mut s = spec();
+        s.boxes[0].round = true;
+        let e = Scene::from_spec(&s).unwrap_err().to_string();
+        assert!(e.contains("boxes[0] (goal).round"), "{e}");
     }
 }

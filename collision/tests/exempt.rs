@@ -25,6 +25,7 @@ fn descent() -> (RobotGeometry, Scene, Vec<afford_kinematics::Pose>) {
             size: [0.04, 0.04, 0.088],
             yaw: 0.0,
             margin: 0.02,
+            round: false,
         }],
     })
     .unwrap();

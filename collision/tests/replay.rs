@@ -54,6 +54,7 @@ fn scene(table_z: f64, goal_at: [f64; 2], pieces: Vec<PhysicsPiece>) -> PhysicsS
             size: [0.12, 0.12, 0.08],
             yaw: 0.0,
             margin: 0.0,
+            round: false,
         }],
         pieces,
         robot_start: None,
@@ -216,6 +217,7 @@ fn replay_held_piece_touching_a_hand_is_a_contact() {
         size: [0.06, 0.08, z - 0.02 + 0.01 + 0.4],
         yaw: 0.0,
         margin: 0.0,
+        round: false,
     });
     let grasp = Grasp {
         piece: "block".into(),
@@ -244,6 +246,7 @@ fn hand_around_the_fingers(robot: &RobotModel) -> SceneBox {
         size: [0.2, 0.2, z + 0.4 + 0.05],
         yaw: 0.0,
         margin: 0.0,
+        round: false,
     }
 }
 

@@ -11,6 +11,7 @@ mod export_mdp;
 mod features;
 mod instructions;
 mod monitor;
+mod packing;
 mod physics;
 mod pipeline;
 mod plan_output;

@@ -14,10 +14,10 @@
 //! twice that above the grasp (it rests on the table when the fingers
 //! close); from there on the whole box is checked.
 
-use afford_collision::{Attachment, BoxKind, Collision, PathOptions, RobotGeometry, Scene};
+use afford_collision::{Attachment, Collision, PathOptions, RobotGeometry, Scene};
 use afford_kinematics::RobotModel;
 
-use crate::geometry::{scene_box, scene_spec};
+use crate::geometry::{object_box, scene_spec};
 use crate::lift::GripperReach;
 use crate::scenario::{PixelBox, Scenario};
 
@@ -65,14 +65,7 @@ pub fn check_motion(
     let (grasped_box, grasp) = m
         .held
         .unwrap_or((object.bbox, m.path[m.grasp_at].as_slice()));
-    let full = scene_box(
-        m.scenario,
-        &object.name,
-        BoxKind::Object,
-        grasped_box,
-        object.height,
-        0.0,
-    );
+    let full = object_box(m.scenario, object, grasped_box, object.height, 0.0);
     let grasp_pose = arm.fk(grasp);
     let mut resting = full.clone();
     resting.size[2] -= SUPPORT_GAP;

@@ -28,7 +28,7 @@ pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec 
             false => object_margin(scenario, o),
         };
         let height = scenario.top_above_table(o);
-        scene_box(scenario, &o.name, BoxKind::Object, o.bbox, height, margin)
+        object_box(scenario, o, o.bbox, height, margin)
     });
     let goals = scenario.goals.iter().enumerate().map(|(i, g)| {
         let margin = if i == goal {
@@ -64,6 +64,15 @@ pub fn object_margin(s: &Scenario, o: &Object) -> f64 {
     }
 }
 
+/// Object `o` with its footprint at pixel box `b`: its box, round when its
+/// outline is ([`crate::place::is_round`]).
+pub fn object_box(s: &Scenario, o: &Object, b: PixelBox, height: f64, margin: f64) -> SceneBox {
+    SceneBox {
+        round: crate::place::is_round(o),
+        ..scene_box(s, &o.name, BoxKind::Object, b, height, margin)
+    }
+}
+
 /// A pixel box as a footprint in the base frame.
 pub fn scene_box(
     s: &Scenario,
@@ -82,6 +91,7 @@ pub fn scene_box(
         size: [b.w * mu, b.l * mv, height],
         yaw: m[1][0].atan2(m[0][0]),
         margin,
+        round: false,
     }
 }
 

@@ -11,6 +11,16 @@
 //! rows from one corner. A candidate is free when the object's footprint
 //! keeps [`WALL_CLEARANCE`] from every piece already in the box.
 //!
+//! Footprints ([`Outline`]): a piece is its pixel box, or, when round
+//! ([`is_round`]), the stadium inside that box — the disc of its narrower
+//! side swept along the longer (a disc for a square box), as the collision
+//! scene builds it ([`afford_collision::round_parts`]). Both are a
+//! rectangle grown by a radius (0 for a box), so the distance between two
+//! footprints is the distance between their rectangles minus both radii:
+//! exact for box to box, disc to box and disc to disc. A round piece thus
+//! packs into the corner a square's box leaves, keeping the clearance from
+//! the square's corner.
+//!
 //! Release height ([`Release::floor`]): the object is released above the
 //! wall top, and nothing lowered over the spot reaches below the object's
 //! bottom (the fingertips stay above it). Where what is lowered — the
@@ -27,7 +37,17 @@ use afford_collision::GOAL_WALL;
 
 use crate::error::Refusal;
 use crate::geometry::object_margin;
-use crate::scenario::Scenario;
+use crate::scenario::{Object, Scenario};
+
+/// Shapes whose outline seen from above is round.
+pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
+
+/// Whether `o`'s outline is round (its shape is one of [`ROUND_SHAPES`]).
+pub fn is_round(o: &Object) -> bool {
+    ROUND_SHAPES
+        .iter()
+        .any(|s| s.eq_ignore_ascii_case(&o.shape))
+}
 
 /// Gap kept between the released footprint and the inner walls, and added
 /// to the earlier pieces' margins, m.
@@ -124,12 +144,16 @@ pub fn release_spot(
     };
     let (us, vs) = (axis(0, mu), axis(1, mv));
     let spots = vs.iter().flat_map(|&v| us.iter().map(move |&u| [u, v]));
-    let held = footprint(s, object, None);
-    let lowered = footprint(s, object, opening);
+    let held = Outline::of(s, &s.objects[object]);
+    let lowered = Outline::lowered(s, object, opening);
     let pieces: Vec<usize> = (0..s.objects.len())
         .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
         .collect();
-    let clear = |p: [f64; 2]| pieces.iter().all(|&j| gap(s, held, p, j) >= WALL_CLEARANCE);
+    let clear = |p: [f64; 2]| {
+        pieces
+            .iter()
+            .all(|&j| gap(s, &held, p, j) >= WALL_CLEARANCE)
+    };
     let mut free = spots.filter(|&p| clear(p)).peekable();
     if free.peek().is_none() {
         return Err(NoSpot::Full);
@@ -138,41 +162,73 @@ pub fn release_spot(
     let floor = pieces
         .iter()
         .map(|&j| (j, object_margin(s, &s.objects[j])))
-        .filter(|&(j, margin)| gap(s, lowered, spot, j) < margin + WALL_CLEARANCE)
+        .filter(|&(j, margin)| gap(s, &lowered, spot, j) < margin + WALL_CLEARANCE)
         .map(|(j, margin)| s.top_above_table(&s.objects[j]) + margin)
         .fold(0.0, f64::max);
     Ok(Release { spot, floor })
 }
 
-/// Half sizes (px) of what is lowered over the spot: the object's footprint,
-/// widened to the gripper's half-widths `[along, across]` the grasp axis
-/// (its narrower side in metres).
-fn footprint(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> [f64; 2] {
-    let [mu, mv] = s.metres_per_pixel();
-    let b = s.objects[object].bbox;
-    let mut half = [b.w / 2.0, b.l / 2.0];
-    if let Some([along, across]) = opening {
-        // The fingers close across the narrower side (the tool's y).
-        let across_u = b.w * mu <= b.l * mv;
-        let (gu, gv) = if across_u {
-            (across, along)
-        } else {
-            (along, across)
-        };
-        half = [half[0].max(gu / mu), half[1].max(gv / mv)];
-    }
-    half
+/// A footprint on the table: the points within `radius` (m) of a rectangle
+/// with half sizes `core` (px) along the image axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outline {
+    pub core: [f64; 2],
+    pub radius: f64,
 }
 
-/// Distance (m) between the footprint `half` centred at `p` and piece `j`
-/// (0 when they overlap).
-fn gap(s: &Scenario, half: [f64; 2], p: [f64; 2], j: usize) -> f64 {
-    let [mu, mv] = s.metres_per_pixel();
+impl Outline {
+    /// The footprint of object `o` (see the module doc).
+    pub fn of(s: &Scenario, o: &Object) -> Self {
+        let [mu, mv] = s.metres_per_pixel();
+        let b = o.bbox;
+        let radius = match is_round(o) {
+            true => (b.w * mu).min(b.l * mv) / 2.0,
+            false => 0.0,
+        };
+        Self {
+            core: [b.w / 2.0 - radius / mu, b.l / 2.0 - radius / mv],
+            radius,
+        }
+    }
+
+    /// What is lowered over the spot: the object's box (a round one's too:
+    /// the fingers around it reach its box), widened to the gripper's
+    /// half-widths `[along, across]` the grasp axis (m; the fingers close
+    /// across its narrower side in metres).
+    fn lowered(s: &Scenario, object: usize, opening: Option<[f64; 2]>) -> Self {
+        let [mu, mv] = s.metres_per_pixel();
+        let b = s.objects[object].bbox;
+        let mut half = [b.w / 2.0, b.l / 2.0];
+        if let Some([along, across]) = opening {
+            let across_u = b.w * mu <= b.l * mv;
+            let (gu, gv) = if across_u {
+                (across, along)
+            } else {
+                (along, across)
+            };
+            half = [half[0].max(gu / mu), half[1].max(gv / mv)];
+        }
+        Self {
+            core: half,
+            radius: 0.0,
+        }
+    }
+
+    /// Distance (m) between this footprint centred at `p` and `other`
+    /// centred at `q` (pixels), 0 when they overlap.
+    pub fn gap(&self, s: &Scenario, p: [f64; 2], other: &Self, q: [f64; 2]) -> f64 {
+        let [mu, mv] = s.metres_per_pixel();
+        let apart = |k: usize| (p[k] - q[k]).abs() - self.core[k] - other.core[k];
+        let (du, dv) = (apart(0).max(0.0) * mu, apart(1).max(0.0) * mv);
+        (du.hypot(dv) - self.radius - other.radius).max(0.0)
+    }
+}
+
+/// Distance (m) between the footprint `outline` centred at `p` and piece
+/// `j` where it lies (0 when they overlap).
+fn gap(s: &Scenario, outline: &Outline, p: [f64; 2], j: usize) -> f64 {
     let o = &s.objects[j];
-    let c = o.bbox.centre();
-    let du = ((p[0] - c[0]).abs() - half[0] - o.bbox.w / 2.0).max(0.0) * mu;
-    let dv = ((p[1] - c[1]).abs() - half[1] - o.bbox.l / 2.0).max(0.0) * mv;
-    du.hypot(dv)
+    outline.gap(s, p, &Outline::of(s, o), o.bbox.centre())
 }
 
 #[cfg(test)]
@@ -194,8 +250,8 @@ mod tests {
 
     /// Gap (m) between the plain footprints of objects `a` and `b`.
     fn footprint_gap(s: &Scenario, a: usize, b: usize) -> f64 {
-        let half = footprint(s, a, None);
-        gap(s, half, s.objects[a].bbox.centre(), b)
+        let outline = Outline::of(s, &s.objects[a]);
+        gap(s, &outline, s.objects[a].bbox.centre(), b)
     }
 
     /// Releases `object` into the left box and leaves it where it lands.
@@ -251,8 +307,8 @@ mod tests {
         let second = release(&mut s, 1, Some(gripper));
         let margin = s.safety.obstacle_margin;
         assert!((footprint_gap(&s, 1, 0) - WALL_CLEARANCE).abs() < 2e-3);
-        let lowered = footprint(&s, 1, Some(gripper));
-        let sideways = gap(&s, lowered, second.spot, 0) >= margin + WALL_CLEARANCE;
+        let lowered = Outline::lowered(&s, 1, Some(gripper));
+        let sideways = gap(&s, &lowered, second.spot, 0) >= margin + WALL_CLEARANCE;
         let over = second.floor >= s.objects[0].height + margin - 1e-12;
         assert!(sideways || over, "{second:?}");
         assert!(over, "the open fingers reach the neighbour sideways here");
@@ -291,5 +347,100 @@ mod tests {
         let side = s.objects[0].bbox.w * mu;
         assert!(side <= 0.026, "{side}");
         assert!(placed >= s.objects.len().min(3), "{placed} placed");
+    }
+
+    /// Scene 265 of the transits bench (sizes in mm): a 49.0 x 53.6 square
+    /// and a 38.6 x 39.3 piece of `shape` for a 105.4 x 112.7 box, the
+    /// square already released into the box's first corner.
+    fn square_then(shape: &str) -> Scenario {
+        let mut s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        let px = |w: f64, l: f64| [w / 1e3 / mu, l / 1e3 / mv];
+        let [gw, gl] = px(105.4, 112.7);
+        s.goals[0].bbox = PixelBox::from([20.0, 300.0, gw, gl]);
+        let [w, l] = px(49.0, 53.6);
+        s.objects[0].bbox = PixelBox::from([300.0, 60.0, w, l]);
+        let [w, l] = px(38.6, 39.3);
+        s.objects[1].bbox = PixelBox::from([400.0, 60.0, w, l]);
+        s.objects[1].shape = shape.into();
+        release(&mut s, 0, None);
+        s
+    }
+
+    #[test]
+    fn round_piece_packs_into_the_corner_beside_a_square() {
+        let mut s = square_then("circle");
+        let spot = release(&mut s, 1, None).spot;
+        let gap = footprint_gap(&s, 1, 0);
+        assert!(gap >= WALL_CLEARANCE, "{gap}");
+        // The boxes alone would not keep the clearance there: it is the
+        // disc's room in the corner the square's box leaves.
+        let [mu, mv] = s.metres_per_pixel();
+        let (a, b) = (s.objects[0].bbox, s.objects[1].bbox);
+        let apart = |d: f64, wa: f64, wb: f64, mpp: f64| (d.abs() - (wa + wb) / 2.0).max(0.0) * mpp;
+        let du = apart(spot[0] - a.centre()[0], a.w, b.w, mu);
+        let dv = apart(spot[1] - a.centre()[1], a.l, b.l, mv);
+        assert!(du.hypot(dv) < WALL_CLEARANCE, "{du} {dv}");
+        // A square of the same box finds no spot.
+        let square = square_then("square");
+        assert_eq!(
+            release_spot(&square, 1, 0, None, |_| true),
+            Err(NoSpot::Full)
+        );
+    }
+
+    #[test]
+    fn outline_gap_is_exact_for_boxes_discs_and_stadiums() {
+        let s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        let at = |x: f64, y: f64| [x / mu, y / mv];
+        let square = Outline {
+            core: [0.02 / mu, 0.01 / mv],
+            radius: 0.0,
+        };
+        let disc = Outline {
+            core: [0.0, 0.0],
+            radius: 0.015,
+        };
+        let stadium = Outline {
+            core: [0.005 / mu, 0.0],
+            radius: 0.015,
+        };
+        let o = at(0.0, 0.0);
+        let cases = [
+            // Box to box, side by side and past a corner.
+            (square, at(0.1, 0.0), square, 0.06),
+            (square, at(0.1, 0.05), square, 0.06f64.hypot(0.03)),
+            // Disc to box: beside a side, past a corner.
+            (disc, at(0.05, 0.0), square, 0.015),
+            (disc, at(0.05, 0.04), square, 0.03f64.hypot(0.03) - 0.015),
+            // Disc to disc, stadium to disc along the stadium's axis.
+            (disc, at(0.03, 0.04), disc, 0.02),
+            (stadium, at(0.1, 0.0), disc, 0.1 - 0.005 - 0.03),
+            // Overlapping: 0.
+            (disc, at(0.02, 0.0), square, 0.0),
+        ];
+        for (a, q, b, expected) in cases {
+            let d = a.gap(&s, o, &b, q);
+            assert!((d - expected).abs() < 1e-12, "{a:?} {b:?} at {q:?}: {d}");
+            assert!((b.gap(&s, q, &a, o) - d).abs() < 1e-15, "symmetric");
+        }
+    }
+
+    #[test]
+    fn a_round_piece_is_the_stadium_inside_its_box() {
+        let mut s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        s.objects[0].bbox = PixelBox::from([100.0, 100.0, 0.04 / mu, 0.05 / mv]);
+        for shape in ["circle", "Cylinder", "disc"] {
+            s.objects[0].shape = shape.into();
+            let o = Outline::of(&s, &s.objects[0]);
+            assert!((o.radius - 0.02).abs() < 1e-12, "{shape}: {o:?}");
+            assert!(o.core[0].abs() < 1e-9 && (o.core[1] * mv - 0.005).abs() < 1e-12);
+        }
+        s.objects[0].shape = "hexagon".into();
+        let o = Outline::of(&s, &s.objects[0]);
+        assert_eq!(o.radius, 0.0);
+        assert!((o.core[0] * mu - 0.02).abs() < 1e-12 && (o.core[1] * mv - 0.025).abs() < 1e-12);
     }
 }
