@@ -552,11 +552,14 @@ fn time_path(
         planned: path.planned,
         started,
     };
-    let timing = finish(&inputs, solve_refined(&inputs, 0.0)?)?;
+    let timing = finish(&inputs, solve_refined(&inputs, &Widen::Nowhere)?)?;
     // Averaging mixes the speeds of a stretch of path: where a hand's cap
     // drops within that stretch, every cap is lowered to the smallest within
-    // the distance the filter spans and the path is timed again.
-    let widen = match (&timing.status, &timing.profile) {
+    // the distance the filter spans and the path is timed again: first the
+    // distance the widest filter spans at the speeds around each segment,
+    // then (should a sample still break a cap) the distance it spans at the
+    // fastest speed anywhere.
+    let (profile, tau) = match (&timing.status, &timing.profile) {
         (
             TimingStatus::LimitViolated {
                 violation:
@@ -566,12 +569,73 @@ fn time_path(
                     },
             },
             Some(profile),
-        ) if timing.stats.jerk_filter_s > 0.0 => {
-            timing.stats.jerk_filter_s * profile.s_dot.iter().copied().fold(0.0, f64::max)
-        }
+        ) if timing.stats.jerk_filter_s > 0.0 => (profile, timing.stats.jerk_filter_s),
         _ => return Ok(timing),
     };
-    finish(&inputs, solve_refined(&inputs, widen)?)
+    let fastest = profile.s_dot.iter().copied().fold(0.0, f64::max);
+    let widest = jerk::jerk_bound_width(&program.acc, &limits.jerk).unwrap_or(tau).max(tau);
+    let local = Widen::Local {
+        profile,
+        tau: LOCAL_WIDEN_FACTOR * widest,
+        reach: LOCAL_WIDEN_FACTOR * widest * fastest,
+    };
+    let timing = finish(&inputs, solve_refined(&inputs, &local)?)?;
+    if !matches!(
+        timing.status,
+        TimingStatus::LimitViolated {
+            violation: LimitViolation {
+                kind: LimitKind::ToolSpeed,
+                ..
+            },
+        }
+    ) {
+        return Ok(timing);
+    }
+    finish(&inputs, solve_refined(&inputs, &Widen::Everywhere(tau * fastest))?)
+}
+
+/// Safety factor on the local widening's filter width and speeds (the
+/// profile timed again may be a little faster than the one measured).
+const LOCAL_WIDEN_FACTOR: f64 = 1.25;
+
+/// How far along the path (rad of chord) each segment's tool-speed cap is
+/// lowered to the smallest cap around it, for the jerk filter's window.
+enum Widen<'a> {
+    Nowhere,
+    /// The same distance for every segment.
+    Everywhere(f64),
+    /// `tau` times the fastest `ṡ` of `profile` within `reach` of the
+    /// segment.
+    Local {
+        profile: &'a SpeedProfile,
+        tau: f64,
+        reach: f64,
+    },
+}
+
+impl Widen<'_> {
+    /// The distance for the segment `[s0, s1]`.
+    fn at(&self, s0: f64, s1: f64) -> f64 {
+        match *self {
+            Widen::Nowhere => 0.0,
+            Widen::Everywhere(w) => w,
+            Widen::Local {
+                profile,
+                tau,
+                reach,
+            } => {
+                let from = profile
+                    .s
+                    .partition_point(|&s| s < s0 - reach)
+                    .saturating_sub(1);
+                let to = profile.s.partition_point(|&s| s <= s1 + reach) + 1;
+                tau * profile.s_dot[from..to.min(profile.s_dot.len())]
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max)
+            }
+        }
+    }
 }
 
 /// What [`solve_refined`] and [`finish`] share.
@@ -590,7 +654,7 @@ struct Inputs<'a> {
 /// The program on the first grid, then refined where a constraint binds
 /// (`settings.refine_rounds`); the hands' caps lowered to the smallest
 /// within `widen` of each segment (path length). Also the rounds run.
-fn solve_refined(inputs: &Inputs, widen: f64) -> Result<(Solved, u32), TimingError> {
+fn solve_refined(inputs: &Inputs, widen: &Widen) -> Result<(Solved, u32), TimingError> {
     let Inputs {
         spline,
         program,
@@ -875,7 +939,7 @@ fn tool_caps(
     proximity: &Proximity,
     tool: &PiecewiseCubic,
     grid: &PathGrid,
-    widen: f64,
+    widen: &Widen,
 ) -> Result<ToolCaps, TimingError> {
     let rule = &proximity.rule;
     let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
@@ -927,8 +991,9 @@ fn tool_caps(
         rises.push(rule.tool_speed_cap(farthest) > cap);
     }
     let limits = caps.clone();
-    if widen > 0.0 {
+    if !matches!(widen, Widen::Nowhere) {
         for (i, cap) in caps.iter_mut().enumerate() {
+            let widen = widen.at(grid.s[i], grid.s[i + 1]);
             let from = grid
                 .s
                 .partition_point(|&s| s < grid.s[i] - widen)
@@ -1112,7 +1177,7 @@ fn solve_on_grid(
     limits: &ProgramLimits,
     tool: Option<(&PiecewiseCubic, &Proximity)>,
     settings: &TimingSettings,
-    widen: f64,
+    widen: &Widen,
 ) -> Result<Solved, TimingError> {
     let caps = tool
         .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, widen))
