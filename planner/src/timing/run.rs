@@ -573,7 +573,9 @@ fn time_path(
         _ => return Ok(timing),
     };
     let fastest = profile.s_dot.iter().copied().fold(0.0, f64::max);
-    let widest = jerk::jerk_bound_width(&program.acc, &limits.jerk).unwrap_or(tau).max(tau);
+    let widest = jerk::jerk_bound_width(&program.acc, &limits.jerk)
+        .unwrap_or(tau)
+        .max(tau);
     let local = Widen::Local {
         profile,
         tau: LOCAL_WIDEN_FACTOR * widest,
@@ -591,7 +593,10 @@ fn time_path(
     ) {
         return Ok(timing);
     }
-    finish(&inputs, solve_refined(&inputs, &Widen::Everywhere(tau * fastest))?)
+    finish(
+        &inputs,
+        solve_refined(&inputs, &Widen::Everywhere(tau * fastest))?,
+    )
 }
 
 /// Safety factor on the local widening's filter width and speeds (the
