@@ -95,7 +95,7 @@ pub struct TimingBenchReport {
     /// time-optimal one on the same path and limits (see
     /// [`examples`](super::examples)).
     pub max_ratio_to_optimal_examples: f64,
-    /// The same before the jerk filter (the discretisation's share).
+    /// The same timed without the jerk limits (the discretisation's share).
     pub max_ratio_without_jerk: f64,
     /// Largest cost of the jerk limit on one example sub-goal, seconds.
     pub max_jerk_cost_s: f64,

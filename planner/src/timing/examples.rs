@@ -5,8 +5,10 @@
 //! the samples. `afford bench timing` reports the largest figures.
 //!
 //! The **reference** is the same convex program on a grid [`REFERENCE_DENSITY`]
-//! times finer, refined where a constraint binds until a round gains less
-//! than 1e-6 of the duration: the program's per-segment bounds only ever
+//! times finer, without the jerk limits (no filter), refined where a
+//! constraint binds until a round gains less than 1e-6 of the duration
+//! (the shorter of two refinements, [`reference_settings`]): the
+//! program's per-segment bounds only ever
 //! cost time, and that cost vanishes as the segments shrink, so this is the
 //! converged time-optimal duration (checked against toppra run on a fine
 //! grid by `scripts/toppra_reference.py`, docs/decisions.md).
@@ -17,8 +19,11 @@ use afford_kinematics::RobotModel;
 use serde::Serialize;
 
 use super::jerk::sample_jerk;
+use super::run::JointLimits;
 use super::run::TimingSettings;
-use super::trajectory::{TimedMotion, TimingRequest, pieces, time_piece};
+use super::trajectory::{
+    TimedMotion, TimingRequest, arm_limits, pieces, time_piece, time_piece_within,
+};
 use crate::plan::{PlanOptions, SubgoalPlan, plan};
 use crate::scenario::{Format, Scenario, parse};
 
@@ -156,11 +161,12 @@ pub struct SubgoalFigures {
     pub reference_s: f64,
     /// `duration_s / reference_s`.
     pub ratio_to_optimal: f64,
-    /// `(duration_s − jerk_cost_s) / reference_s`: the discretisation's
-    /// share of the ratio.
+    /// The moving time timed (default settings) without the jerk limits,
+    /// over `reference_s`: the discretisation's share of the ratio.
     pub ratio_without_jerk: f64,
-    /// What the jerk limit costs: the moving time less that of the
-    /// time-optimal profiles before the jerk filter, seconds.
+    /// What the jerk limits cost: the moving time less the moving time
+    /// timed without them (the filter's width and, near hands, the caps
+    /// lowered over its window), seconds.
     pub jerk_cost_s: f64,
     /// Wall time of the timing stage (three pieces, default settings), ms.
     pub timing_ms: f64,
@@ -176,15 +182,34 @@ pub struct SubgoalFigures {
     pub jerk_ratio: f64,
 }
 
-/// The settings of the reference solve (see the module docs).
-pub fn reference_settings(settings: &TimingSettings) -> TimingSettings {
-    TimingSettings {
+/// The settings of the two reference solves (see the module docs): both on
+/// the grid [`REFERENCE_DENSITY`] times finer, refined up to 12 rounds
+/// until a round gains less than 1e-6, one cutting every bound segment
+/// whose rows may be first-order conservative (`refine_looseness` 0), the
+/// other cutting where the profile leaves more than [`REFERENCE_LOOSENESS`]
+/// of the limits unused (which reaches farther near hands). Every solution
+/// of the program is feasible on the whole path, so the shorter is the
+/// tighter upper bound on the converged optimum.
+pub fn reference_settings(settings: &TimingSettings) -> [TimingSettings; 2] {
+    let fine = TimingSettings {
         path_points: settings.path_points * REFERENCE_DENSITY,
         refine_rounds: 12,
         refine_tolerance: 1e-6,
+        refine_looseness: 0.0,
+        refine_near_hands: true,
         ..settings.clone()
-    }
+    };
+    [
+        fine.clone(),
+        TimingSettings {
+            refine_looseness: REFERENCE_LOOSENESS,
+            ..fine
+        },
+    ]
 }
+
+/// The looseness of the second reference solve ([`reference_settings`]).
+pub const REFERENCE_LOOSENESS: f64 = 1e-5;
 
 /// Plans every example with `options` and measures every planned sub-goal.
 /// Examples that do not parse or plan are skipped.
@@ -240,17 +265,31 @@ fn measure_subgoal(
         settings,
     };
     let reference = reference_settings(settings);
-    let (mut duration_s, mut reference_s, mut timing_ms, mut jerk_cost_s) = (0.0, 0.0, 0.0, 0.0);
+    // Without the jerk limits: no filter, and the hands' caps as the rule
+    // gives them (not lowered over the filter's window).
+    let no_jerk = JointLimits {
+        jerk: Vec::new(),
+        ..arm_limits(robot, arm)
+    };
+    let (mut duration_s, mut reference_s, mut timing_ms, mut without_jerk_s) = (0.0, 0.0, 0.0, 0.0);
     for piece in pieces(&request) {
         let started = Instant::now();
         let timed = time_piece(&request, piece, settings).ok()?;
         timing_ms += started.elapsed().as_secs_f64() * 1e3;
         duration_s += timed.duration()?;
-        jerk_cost_s += timed.stats.jerk_filter_s;
-        // The reference is the time-optimal profile, before the jerk filter.
-        let optimal = time_piece(&request, piece, &reference).ok()?;
-        reference_s += optimal.duration()? - optimal.stats.jerk_filter_s;
+        without_jerk_s += time_piece_within(&request, piece, settings, &no_jerk)
+            .ok()?
+            .duration()?;
+        // The reference is the converged time-optimal profile under the
+        // velocity, acceleration and hand-speed limits.
+        let mut optimal = f64::INFINITY;
+        for settings in &reference {
+            let timed = time_piece_within(&request, piece, settings, &no_jerk).ok()?;
+            optimal = optimal.min(timed.duration()?);
+        }
+        reference_s += optimal;
     }
+    let jerk_cost_s = duration_s - without_jerk_s;
     let (max_velocity_reversals, reversal_joint) = most_reversals(trajectory);
     let jerk_limits: Vec<f64> = arm
         .joint_indices
@@ -265,7 +304,7 @@ fn measure_subgoal(
         duration_s,
         reference_s,
         ratio_to_optimal: duration_s / reference_s,
-        ratio_without_jerk: (duration_s - jerk_cost_s) / reference_s,
+        ratio_without_jerk: without_jerk_s / reference_s,
         jerk_cost_s,
         timing_ms,
         max_velocity_reversals,
@@ -316,4 +355,46 @@ pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
         .collect();
     sample_jerk(&times, &positions, limits.unwrap_or(&ones))
         .map_or((0.0, 0), |(ratio, _, joint, _)| (ratio, joint))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 9: every sub-goal of every example without hands within 1 %
+    /// of the converged time-optimal duration on its own path under its
+    /// velocity and acceleration limits (timed without the jerk limits;
+    /// their cost is reported apart). Five Care-O-bot sub-goals were
+    /// 1.010–1.017 with the grid unrefined. Near hands the default timing
+    /// is not refined (see `TimingSettings::refine_near_hands`). Never
+    /// below the reference: it must be the tighter bound.
+    #[test]
+    fn example_subgoals_without_hands_within_one_percent_of_the_converged_optimum() {
+        let figures = measure_examples(&PlanOptions::default());
+        assert!(figures.len() >= 40, "{} sub-goals", figures.len());
+        let with_hands = |name: &str| {
+            EXAMPLES
+                .iter()
+                .find(|(n, _)| *n == name)
+                .and_then(|(n, text)| parse(text, Format::Yaml, n).ok())
+                .is_some_and(|s| !s.hands.is_empty())
+        };
+        let mut without = 0;
+        for f in &figures {
+            let most = if with_hands(&f.example) {
+                f64::INFINITY
+            } else {
+                without += 1;
+                1.01
+            };
+            assert!(
+                (1.0 - 1e-9..=most).contains(&f.ratio_without_jerk),
+                "{} [{}]: {} against the reference",
+                f.example,
+                f.subgoal,
+                f.ratio_without_jerk
+            );
+        }
+        assert!(without >= 30, "{without} sub-goals without hands");
+    }
 }

@@ -267,6 +267,40 @@ pub fn acceleration_bound(
     })
 }
 
+/// Points `θ = k/(UTILISATION_POINTS − 1)` at which [`joint_utilisation`]
+/// measures a segment.
+pub const UTILISATION_POINTS: usize = 9;
+
+/// The share of the joint limits used along segment `i` by the profile
+/// `(b_i, b_{i+1})`: at each of [`UTILISATION_POINTS`] points `θ`, the
+/// largest over the joints of `|q̈_j(θ)|/A_j` and `q̇_j(θ)²/v_j²`. Where the
+/// smallest of these is below 1 by `ε`, the limits would let `b` rise by
+/// about `ε` there but the segment's linear `b` cannot: cutting it gains time.
+pub fn joint_utilisation(
+    spline: &PiecewiseCubic,
+    grid: &PathGrid,
+    i: usize,
+    vel_sq: &[f64],
+    acc: &[f64],
+    (b0, b1): (f64, f64),
+) -> [f64; UTILISATION_POINTS] {
+    let a = (b1 - b0) / (2.0 * grid.step(i));
+    let mut used = [0.0_f64; UTILISATION_POINTS];
+    for j in 0..spline.dim() {
+        let (d1, d2) = derivatives_on_segment(spline, grid, i, j);
+        for (k, used) in used.iter_mut().enumerate() {
+            let t = k as f64 / (UTILISATION_POINTS - 1) as f64;
+            let speed = d1[0] + t * (d1[1] + t * d1[2]);
+            let b = b0 + t * (b1 - b0);
+            let acceleration = (d2[0] + d2[1] * t) * b + speed * a;
+            *used = used
+                .max(acceleration.abs() / acc[j])
+                .max(speed * speed * b / vel_sq[j]);
+        }
+    }
+    used
+}
+
 /// True when the speed rows of some joint on segment `i` are loose: its
 /// squared speed varies more than 2× over the segment (a joint turning
 /// round), so [`push_speed_rows`] floors the end values and its bound can be
@@ -274,11 +308,30 @@ pub fn acceleration_bound(
 pub fn speed_rows_loose(spline: &PiecewiseCubic, grid: &PathGrid, i: usize) -> bool {
     (0..spline.dim()).any(|j| {
         let (d1, _) = derivatives_on_segment(spline, grid, i, j);
-        let g = square(&d1);
-        let peak = bernstein(&g).into_iter().fold(0.0_f64, f64::max);
-        let (g0, g1) = (g[0], g.iter().sum::<f64>());
-        peak > 0.0 && g0.min(g1) < 0.5 * peak
+        varies_twofold(&square(&d1))
     })
+}
+
+/// True when the tool-speed rows of segment `i` are loose: the tool
+/// path's squared speed `‖p'‖²` varies more than 2× over the segment (see
+/// [`speed_rows_loose`]).
+pub fn tool_speed_rows_loose(tool: &PiecewiseCubic, grid: &PathGrid, i: usize) -> bool {
+    let mut g = [0.0; 5];
+    for d in 0..tool.dim() {
+        let (d1, _) = derivatives_on_segment(tool, grid, i, d);
+        for (acc, v) in g.iter_mut().zip(square(&d1)) {
+            *acc += v;
+        }
+    }
+    varies_twofold(&g)
+}
+
+/// The end values of the quartic `g ≥ 0` below half its largest Bernstein
+/// coefficient: [`push_speed_rows`] floors them.
+fn varies_twofold(g: &[f64; 5]) -> bool {
+    let peak = bernstein(g).into_iter().fold(0.0_f64, f64::max);
+    let (g0, g1) = (g[0], g.iter().sum::<f64>());
+    peak > 0.0 && g0.min(g1) < 0.5 * peak
 }
 
 /// A row with both coefficients positive, `α b_i + β b_{i+1} ≤ 1`, is

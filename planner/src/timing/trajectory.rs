@@ -143,10 +143,20 @@ pub fn pieces(r: &TimingRequest) -> [(usize, usize); 3] {
 /// is discretised as finely as one path of `settings.path_points`).
 pub fn time_piece(
     r: &TimingRequest,
-    (from, to): (usize, usize),
+    piece: (usize, usize),
     settings: &TimingSettings,
 ) -> Result<Timing, Refusal> {
-    let limits = arm_limits(r.robot, r.arm);
+    time_piece_within(r, piece, settings, &arm_limits(r.robot, r.arm))
+}
+
+/// [`time_piece`] under `limits` (the arm's, or e.g. without its jerk
+/// limits to measure what they cost).
+pub fn time_piece_within(
+    r: &TimingRequest,
+    (from, to): (usize, usize),
+    settings: &TimingSettings,
+    limits: &JointLimits,
+) -> Result<Timing, Refusal> {
     let fk = |q: &[f64]| -> [f64; 3] { r.arm.fk(q).translation.vector.into() };
     let piece = &r.path[from..=to];
     // Without hands the tool positions would go unused: no forward
@@ -164,7 +174,7 @@ pub fn time_piece(
         path_points: share.max(MIN_PIECE_SEGMENTS),
         ..settings.clone()
     };
-    time_parameterize_tool(piece, &limits, proximity.as_ref(), Some(&fk), &settings)
+    time_parameterize_tool(piece, limits, proximity.as_ref(), Some(&fk), &settings)
         .map_err(Refusal::from)
 }
 
