@@ -22,8 +22,9 @@
 //! budget is exceeded suffices: a string stays inside its tube at every
 //! waypoint, so a waypoint's tubes alone bound how far its tool moves.
 //! (Narrowing every tube by the worst waypoint's excess, as before, left
-//! the examples' tubes at a median 0.39 of their width over whole pieces.) The timing stage then checks every sample against
-//! the planned tool path as before.
+//! the examples' tubes at a median 0.39 of their width over whole pieces.)
+//! The timing stage then checks every sample against the planned tool path
+//! as before.
 
 use super::deviation::{ToolFk, ToolPathCheck};
 
