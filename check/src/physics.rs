@@ -30,8 +30,14 @@ use crate::report::{Report, ViolationClass};
 use crate::scene::{Footprint, GOAL_WALL, table_extent};
 use crate::start;
 
-/// Object shapes replayed as upright cylinders (case-insensitive).
+/// Object shapes whose outline is round (case-insensitive): upright
+/// cylinders in the replay, stadiums in the check's scene ([`crate::scene`]).
 pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
+
+/// Whether a scenario shape name is one of [`ROUND_SHAPES`] (any case).
+pub(crate) fn is_round(shape: &str) -> bool {
+    ROUND_SHAPES.iter().any(|s| s.eq_ignore_ascii_case(shape))
+}
 
 /// The replay's scene for `scenario`, the robot at the plan's start.
 pub fn physics_scene(
@@ -64,10 +70,7 @@ pub fn physics_scene(
         .iter()
         .map(|o| {
             let f = Footprint::of(scenario, o.bbox);
-            let round = ROUND_SHAPES
-                .iter()
-                .any(|s| s.eq_ignore_ascii_case(&o.shape));
-            let shape = match round {
+            let shape = match is_round(&o.shape) {
                 true => PieceShape::Cylinder {
                     radius: 0.5 * f.size[0].min(f.size[1]),
                     height: o.height,

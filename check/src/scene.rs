@@ -23,7 +23,7 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, to_parry};
-use crate::physics::ROUND_SHAPES;
+use crate::physics::is_round;
 
 /// Wall and floor thickness of a goal box, m (the value of the collision
 /// crate's `GOAL_WALL`, copied: the boxes are the scenario's, not afford's).
@@ -142,9 +142,7 @@ pub(crate) fn pieces(s: &Scenario) -> Vec<Piece> {
                 pose: f.pose(s.camera.table_z, o.height),
                 half: [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * o.height],
                 sensitive: s.is_sensitive(o),
-                round: ROUND_SHAPES
-                    .iter()
-                    .any(|r| r.eq_ignore_ascii_case(&o.shape)),
+                round: is_round(&o.shape),
             }
         })
         .collect()
