@@ -6,8 +6,8 @@
 //!
 //! Scene: the table under the image's footprint; goals as open boxes, hands
 //! as solid boxes (fixed); every object a dynamic box of its footprint and
-//! height (a `circle`/`cylinder`/`disc` an upright cylinder of the narrower
-//! side's diameter), standing on the table — on a goal's floor when its
+//! height (a `circle`/`cylinder`/`disc` the upright stadium inside it: the
+//! disc of the narrower side swept along the longer side), standing on the table — on a goal's floor when its
 //! centre lies inside that goal — with afford-collision's default density
 //! and friction ([`replay::PIECE_DENSITY`], [`replay::PIECE_FRICTION`]); the robot where the plan's `start_state` (or the
 //! scenario's rule) puts it.
@@ -31,7 +31,7 @@ use crate::scene::{Footprint, GOAL_WALL, table_extent};
 use crate::start;
 
 /// Object shapes whose outline is round (case-insensitive): upright
-/// cylinders in the replay, stadiums in the check's scene ([`crate::scene`]).
+/// stadiums in the replay and in the check's scene ([`crate::scene`]).
 pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
 
 /// Whether a scenario shape name is one of [`ROUND_SHAPES`] (any case).
@@ -70,14 +70,10 @@ pub fn physics_scene(
         .iter()
         .map(|o| {
             let f = Footprint::of(scenario, o.bbox);
+            let size = [f.size[0], f.size[1], o.height];
             let shape = match is_round(&o.shape) {
-                true => PieceShape::Cylinder {
-                    radius: 0.5 * f.size[0].min(f.size[1]),
-                    height: o.height,
-                },
-                false => PieceShape::Box {
-                    size: [f.size[0], f.size[1], o.height],
-                },
+                true => PieceShape::Stadium { size },
+                false => PieceShape::Box { size },
             };
             let in_goal = scenario
                 .goals
@@ -199,7 +195,8 @@ mod tests {
     use super::*;
 
     /// The default scenario's pieces: boxes of their footprint and height on
-    /// the table, a round one a cylinder, one inside a goal on its floor.
+    /// the table, a round one the stadium of its footprint, one inside a
+    /// goal on its floor.
     #[test]
     fn scene_pieces_take_the_scenarios_shapes_and_supports() {
         let mut s = afford_planner::scenario::default_scenario().unwrap();
@@ -219,7 +216,7 @@ mod tests {
         let z0 = s.camera.table_z;
         let (a, b, c) = (&scene.pieces[0], &scene.pieces[1], &scene.pieces[2]);
         let h = |i: usize| s.objects[i].height;
-        assert!(matches!(a.shape, PieceShape::Cylinder { height, .. } if height == h(0)));
+        assert!(matches!(a.shape, PieceShape::Stadium { size } if size[2] == h(0)));
         assert!((a.centre[2] - (z0 + 0.5 * h(0))).abs() < 1e-12);
         assert!((b.centre[2] - (z0 + GOAL_WALL + 0.5 * h(1))).abs() < 1e-12);
         assert!(matches!(c.shape, PieceShape::Box { size } if size[2] == h(2)));

@@ -36,6 +36,11 @@ pub enum PieceShape {
     Box { size: [f64; 3] },
     /// An upright cylinder (axis along z), m.
     Cylinder { radius: f64, height: f64 },
+    /// An upright stadium inside a footprint of full sizes `size[0]` (x)
+    /// by `size[1]` (y), `size[2]` high, m: the disc of the narrower side's
+    /// diameter swept along the longer side (a cylinder when the sides are
+    /// equal) — how afford shapes a round piece seen as a pixel box.
+    Stadium { size: [f64; 3] },
 }
 
 impl PieceShape {
@@ -44,6 +49,7 @@ impl PieceShape {
         match *self {
             Self::Box { size } => size[2],
             Self::Cylinder { height, .. } => height,
+            Self::Stadium { size } => size[2],
         }
     }
 
@@ -52,6 +58,10 @@ impl PieceShape {
         match *self {
             Self::Box { size } => size.iter().product(),
             Self::Cylinder { radius, height } => std::f64::consts::PI * radius * radius * height,
+            Self::Stadium { size } => {
+                let (r, straight) = stadium_parts(size);
+                (std::f64::consts::PI * r * r + 2.0 * r * straight) * size[2]
+            }
         }
     }
 
@@ -59,8 +69,16 @@ impl PieceShape {
         match *self {
             Self::Box { size } => size.to_vec(),
             Self::Cylinder { radius, height } => vec![radius, height],
+            Self::Stadium { size } => size.to_vec(),
         }
     }
+}
+
+/// A stadium footprint's disc radius and the length of its straight part
+/// (along the longer side), m.
+pub(crate) fn stadium_parts(size: [f64; 3]) -> (f64, f64) {
+    let r = 0.5 * size[0].min(size[1]);
+    (r, (size[0].max(size[1]) - 2.0 * r).max(0.0))
 }
 
 /// One loose piece: a dynamic rigid body.

@@ -21,12 +21,13 @@ use afford_kinematics::Pose;
 use rapier3d::prelude::{
     ActiveCollisionTypes, ColliderBuilder, ColliderHandle, Group, InteractionGroups,
     InteractionTestMode, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+    SharedShape,
 };
 
 use crate::convert::to_parry;
 use crate::error::CollisionError;
 use crate::replay::report::BodyKind;
-use crate::replay::scene::{PhysicsScene, PieceShape, SURFACE_FRICTION};
+use crate::replay::scene::{PhysicsScene, PieceShape, SURFACE_FRICTION, stadium_parts};
 use crate::robot::RobotGeometry;
 use crate::scene::{BoxKind, Scene, SceneSpec};
 
@@ -179,26 +180,13 @@ impl World {
                 nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), p.yaw),
             );
             let body = RigidBodyBuilder::dynamic().pose(to_parry(&pose));
-            let collider = match p.shape {
-                PieceShape::Box { size } => {
-                    ColliderBuilder::cuboid(0.5 * size[0], 0.5 * size[1], 0.5 * size[2])
-                }
-                // rapier's cylinders run along local y; the piece's along z.
-                PieceShape::Cylinder { radius, height } => {
-                    ColliderBuilder::cylinder(0.5 * height, radius).position(
-                        rapier3d::math::Pose::from_parts(
-                            rapier3d::math::Vector::ZERO,
-                            rapier3d::math::Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2),
-                        ),
-                    )
-                }
-            }
-            .mass(p.mass)
-            .friction(p.friction)
-            .restitution(0.0)
-            .active_collision_types(ActiveCollisionTypes::all())
-            .collision_groups(piece_groups(Role::Loose))
-            .user_data(self.tags.len() as u128);
+            let collider = piece_collider(p.shape)
+                .mass(p.mass)
+                .friction(p.friction)
+                .restitution(0.0)
+                .active_collision_types(ActiveCollisionTypes::all())
+                .collision_groups(piece_groups(Role::Loose))
+                .user_data(self.tags.len() as u128);
             self.tags.push(Tag::Piece(i));
             let handle = self.physics.bodies.insert(body);
             let b = &mut self.physics.bodies;
@@ -285,4 +273,55 @@ fn piece_groups(role: Role) -> InteractionGroups {
         Role::Target => groups(TARGET, FIXED | PIECE | TARGET | ROBOT),
         Role::Held => groups(HELD, FIXED | PIECE),
     }
+}
+
+/// A piece's collider in its own frame (upright along z).
+fn piece_collider(shape: PieceShape) -> ColliderBuilder {
+    match shape {
+        PieceShape::Box { size } => {
+            ColliderBuilder::cuboid(0.5 * size[0], 0.5 * size[1], 0.5 * size[2])
+        }
+        PieceShape::Cylinder { radius, height } => {
+            ColliderBuilder::new(upright_cylinder(radius, height)).position(upright_at(0.0, 0.0))
+        }
+        PieceShape::Stadium { size } => ColliderBuilder::compound(stadium_shapes(size)),
+    }
+}
+
+/// A cylinder's pose at `(x, y)` in the piece's frame: rapier's cylinders
+/// run along local y, a piece's along z.
+fn upright_at(x: f64, y: f64) -> rapier3d::math::Pose {
+    rapier3d::math::Pose::from_parts(
+        rapier3d::math::Vector::new(x, y, 0.0),
+        rapier3d::math::Rotation::from_rotation_x(std::f64::consts::FRAC_PI_2),
+    )
+}
+
+fn upright_cylinder(radius: f64, height: f64) -> SharedShape {
+    SharedShape::cylinder(0.5 * height, radius)
+}
+
+/// A stadium as a compound: a disc at each end of the straight part, the
+/// box between them (one cylinder when there is no straight part).
+fn stadium_shapes(size: [f64; 3]) -> Vec<(rapier3d::math::Pose, SharedShape)> {
+    let (r, straight) = stadium_parts(size);
+    let disc = upright_cylinder(r, size[2]);
+    if straight <= 0.0 {
+        return vec![(upright_at(0.0, 0.0), disc)];
+    }
+    let along_x = size[0] >= size[1];
+    let end = |sign: f64| {
+        let d = sign * 0.5 * straight;
+        let pose = match along_x {
+            true => upright_at(d, 0.0),
+            false => upright_at(0.0, d),
+        };
+        (pose, disc.clone())
+    };
+    let half = match along_x {
+        true => [0.5 * straight, r, 0.5 * size[2]],
+        false => [r, 0.5 * straight, 0.5 * size[2]],
+    };
+    let core = SharedShape::cuboid(half[0], half[1], half[2]);
+    vec![end(-1.0), end(1.0), (rapier3d::math::Pose::IDENTITY, core)]
 }
