@@ -35,7 +35,7 @@
 //!   segment of the stretch needs more than the approach height by the
 //!   carry rule (`eased`); never on the fallback. The stretch is the leg's
 //!   last one on which the tool's reach from the base changes one way,
-//!   between one and three drops long, so the height changes while the
+//!   between one and five drops long, so the height changes while the
 //!   reach does (no joint turning at the foot of the vertical move);
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top (or above the pieces already in the box that the open fingers
@@ -472,7 +472,7 @@ fn needs(leg: &[[f64; 2]], need: &dyn Fn([f64; 2], [f64; 2]) -> f64) -> Vec<f64>
 const EASE_SAMPLES: usize = 16;
 
 /// Longest horizontal span of an eased turn, in drops (`high − low`).
-const MAX_EASE_SPAN: f64 = 3.0;
+const MAX_EASE_SPAN: f64 = 5.0;
 
 /// Changes of the reach from the base (metres) smaller than this do not
 /// end a stretch on which it changes one way.
@@ -722,7 +722,7 @@ mod tests {
 
     /// A leg passing the base tangentially, its reach from the base
     /// falling over its last 150 mm to the target: the descent spans that
-    /// whole stretch (within three drops), so the height falls wherever the
+    /// whole stretch (within five drops), so the height falls wherever the
     /// reach does and a joint that both move (the iiwa's shoulder) does not
     /// turn where the leg meets the vertical move. Eased over one drop
     /// (60 mm) only, the reach fell 90 mm at the carry height first.
