@@ -33,10 +33,10 @@
 //!   vertically, and the carry's first stretch rises the same way after the
 //!   lift, instead of right angles (near stops of the arm), where no
 //!   segment of the stretch needs more than the approach height by the
-//!   carry rule (`eased`); never on the fallback. The stretch is the leg's
-//!   last one on which the tool's reach from the base changes one way,
-//!   between one and five drops long, so the height changes while the
-//!   reach does (no joint turning at the foot of the vertical move);
+//!   carry rule (`eased`); never on the fallback. Where the tool's reach
+//!   from the base falls toward the target, the stretch is that whole
+//!   fall, up to five drops long, so the height falls while the reach does
+//!   (no joint turning at the foot of the vertical move);
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top (or above the pieces already in the box that the open fingers
 //!   pass over, plus their margin: [`crate::place::Release::floor`]),
@@ -474,23 +474,24 @@ const EASE_SAMPLES: usize = 16;
 /// Longest horizontal span of an eased turn, in drops (`high − low`).
 const MAX_EASE_SPAN: f64 = 5.0;
 
-/// Changes of the reach from the base (metres) smaller than this do not
-/// end a stretch on which it changes one way.
+/// Rises of the reach from the base (metres) smaller than this do not
+/// end a stretch on which it falls toward the target.
 const REACH_NOISE: f64 = 1e-4;
 
 /// The leg's points (pixels) with their heights (metres above the table):
 /// at `high` = `heights[1]`, except that over the stretch nearest the
 /// target (the leg's end when `at_end`, else its start) the height follows
 /// a quarter ellipse down to `low` = `heights[0]` at the target, arriving
-/// vertically. Its horizontal span is the leg's last stretch before the
-/// target on which the tool's reach from the robot base (`base_of`: pixels
-/// to base-frame metres) changes one way only, at least the drop
-/// `high − low` and at most [`MAX_EASE_SPAN`] drops (the whole leg when
-/// shorter): the height
-/// then changes while the reach does, so a joint that the reach moves
-/// against the vertical move (a leg passing the target tangentially, its
-/// reach least over the target) is carried past that turn by the descent
-/// instead of turning at the foot of it and again on the vertical line.
+/// vertically. Its horizontal span is the drop `high − low`, or, where
+/// the tool's reach from the robot base (`base_of`: pixels to base-frame
+/// metres) falls toward the target, the leg's whole last stretch on which
+/// it falls, at most [`MAX_EASE_SPAN`] drops (the whole leg when shorter):
+/// the height then falls while the reach does, so a joint that the falling
+/// reach moves against the descent (the iiwa's shoulder on a leg passing
+/// the base tangentially into the target) is carried past that turn by
+/// the descent instead of turning at the foot of it and again on the
+/// vertical line. A reach that rises into the target moves such joints
+/// the descent's way already.
 /// The ellipse is used only when no segment of that stretch needs more
 /// than `low` (`need`, metres): everything on it is at least as high as
 /// its need; when the long stretch is not clear, the drop's length is
@@ -514,7 +515,7 @@ fn eased(
     }
     let length = s.last().copied().unwrap_or(0.0);
     let drop = high - low;
-    let monotone = one_way_stretch(&points, &s, base_of);
+    let falling = falling_stretch(&points, &s, base_of);
     let needs = needs(&points, need);
     let clear = |reach: f64| {
         needs
@@ -522,7 +523,7 @@ fn eased(
             .zip(&s)
             .all(|(n, &from)| from >= reach || *n <= low)
     };
-    let reach = [monotone.clamp(drop, MAX_EASE_SPAN * drop), drop]
+    let reach = [falling.clamp(drop, MAX_EASE_SPAN * drop), drop]
         .map(|r| r.min(length))
         .into_iter()
         .find(|&r| r > 1e-6 && clear(r));
@@ -552,12 +553,13 @@ fn eased(
     out
 }
 
-/// Arc length (metres, `s`) from the first point over which the reach
-/// from the base (the norm of `base_of`, pixels to base-frame metres, an
-/// affine map) changes one way only, by more than [`REACH_NOISE`]. On a
-/// straight segment the reach is least at the foot of the perpendicular
-/// from the base, the one place inside it where the reach can turn.
-fn one_way_stretch(points: &[[f64; 2]], s: &[f64], base_of: &dyn Fn([f64; 2]) -> [f64; 2]) -> f64 {
+/// Arc length (metres, `s`) from the first point (the target) over which
+/// the reach from the base (the norm of `base_of`, pixels to base-frame
+/// metres, an affine map) grows, i.e. falls toward the target; rises of at
+/// most [`REACH_NOISE`] are ignored. On a straight segment the reach is
+/// least at the foot of the perpendicular from the base, the one place
+/// inside it where the reach can turn.
+fn falling_stretch(points: &[[f64; 2]], s: &[f64], base_of: &dyn Fn([f64; 2]) -> [f64; 2]) -> f64 {
     let reach = |p: [f64; 2]| {
         let [x, y] = base_of(p);
         x.hypot(y)
@@ -580,16 +582,16 @@ fn one_way_stretch(points: &[[f64; 2]], s: &[f64], base_of: &dyn Fn([f64; 2]) ->
     let Some(&(_, first)) = samples.first() else {
         return 0.0;
     };
-    let (mut extreme, mut sense, mut at) = (first, 0.0, 0.0);
+    let (mut extreme, mut at) = (first, 0.0);
     for &(from, r) in &samples[1..] {
         let change = r - extreme;
         if change.abs() <= REACH_NOISE {
             continue;
         }
-        if sense != 0.0 && change.signum() != sense {
+        if change < 0.0 {
             return at;
         }
-        (extreme, sense, at) = (r, change.signum(), from);
+        (extreme, at) = (r, from);
     }
     s.last().copied().unwrap_or(0.0)
 }
@@ -684,7 +686,8 @@ mod tests {
     const MM: [f64; 2] = [0.001, 0.001];
 
     /// Base frame (metres) with the base 0.5 m beside the test legs'
-    /// x = 140 px: the reach is least 60 mm before their end at x = 200 px.
+    /// x = 140 px: the reach rises over their last 60 mm to their end at
+    /// x = 200 px, so the turn is eased over one drop.
     const BESIDE: fn([f64; 2]) -> [f64; 2] = |p| [(p[0] - 140.0) * 0.001, (p[1] + 500.0) * 0.001];
 
     /// The turn over the target is a quarter ellipse: it ends at the low
@@ -720,30 +723,28 @@ mod tests {
         assert_eq!(from_start.first(), Some(&0.12));
     }
 
-    /// A leg passing the base tangentially, its reach from the base
-    /// falling over its last 150 mm to the target: the descent spans that
-    /// whole stretch (within five drops), so the height falls wherever the
-    /// reach does and a joint that both move (the iiwa's shoulder) does not
-    /// turn where the leg meets the vertical move. Eased over one drop
-    /// (60 mm) only, the reach fell 90 mm at the carry height first.
+    /// A leg passing the base tangentially, its reach from the base least
+    /// over the target (falling all the way to it): the descent spans five
+    /// drops (300 mm) of it, so the height falls wherever the reach does
+    /// and a joint that both move (the iiwa's shoulder) does not turn where
+    /// the leg meets the vertical move. Eased over one drop (60 mm) only,
+    /// the reach fell at the carry height first.
     #[test]
     fn lift_descends_over_the_whole_stretch_where_the_reach_falls_toward_the_target() {
-        let leg: Vec<[f64; 2]> = (0..=40).map(|k| [5.0 * k as f64, 0.0]).collect();
-        let beside = |p: [f64; 2]| [(p[0] - 50.0) * 0.001, 0.5];
+        let leg: Vec<[f64; 2]> = (0..=80).map(|k| [5.0 * k as f64, 0.0]).collect();
+        let beside = |p: [f64; 2]| [(p[0] - 400.0) * 0.001, 0.5];
         let eased = eased(&leg, MM, &|_, _| 0.08, &beside, [0.12, 0.18], true);
-        // The reach changes by less than `REACH_NOISE` within 10 mm of its
-        // least (x = 50 px).
         for &(p, z) in &eased {
-            if p[0] >= 65.0 {
+            if p[0] >= 105.0 {
                 assert!(z < 0.18 - 1e-9, "flat at {p:?} where the reach falls");
-            } else if p[0] <= 50.0 {
+            } else if p[0] <= 100.0 {
                 assert!((z - 0.18).abs() < 1e-12, "{p:?} {z}");
             }
         }
         // Still arriving vertically at the approach height.
         let (last, before) = (eased[eased.len() - 1], eased[eased.len() - 2]);
-        assert_eq!(last, ([200.0, 0.0], 0.12));
-        assert!(before.1 - last.1 > 5.0 * (last.0[0] - before.0[0]) * 0.001);
+        assert_eq!(last, ([400.0, 0.0], 0.12));
+        assert!(before.1 - last.1 > 2.0 * (last.0[0] - before.0[0]) * 0.001);
     }
 
     fn eased_heights(leg: &[[f64; 2]], heights: [f64; 2]) -> Vec<f64> {
