@@ -134,3 +134,24 @@ fn taut_joints_turn_at_most_four_times_on_the_hand_approaching_example() {
         assert!(turns <= 4, "{joint} reverses {turns} times");
     }
 }
+
+/// On `examples/sensitive-yellow.yaml` the travel passes the base
+/// tangentially: the tool's reach from the base falls by 7 mm over the
+/// last 12 cm before the target, at the carry height, and `joint_a2`
+/// (the shoulder, which the reach and the descent both move) turned there
+/// and again where the lift met the carry (8 turns). The eased descent now
+/// spans that stretch: the height falls wherever the reach does.
+#[test]
+fn ease_spans_the_falling_reach_so_the_shoulder_turns_at_most_four_times_on_sensitive_yellow() {
+    let text = include_str!("../../examples/sensitive-yellow.yaml");
+    let scenario = parse(text, Format::Yaml, "sensitive-yellow.yaml").unwrap();
+    let planned = plan(&scenario, &PlanOptions::default()).unwrap();
+    let sub = &planned.subgoals[0];
+    let (t, names) = (
+        sub.trajectory.as_ref().unwrap(),
+        sub.joint_names.as_ref().unwrap(),
+    );
+    let shoulder = names.iter().position(|n| n == "joint_a2").unwrap();
+    let turns = velocity_reversals(t, shoulder);
+    assert!(turns <= 4, "joint_a2 reverses {turns} times");
+}

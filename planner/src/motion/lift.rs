@@ -33,7 +33,10 @@
 //!   vertically, and the carry's first stretch rises the same way after the
 //!   lift, instead of right angles (near stops of the arm), where no
 //!   segment of the stretch needs more than the approach height by the
-//!   carry rule (`eased`); never on the fallback;
+//!   carry rule (`eased`); never on the fallback. Where the tool's reach
+//!   from the base falls toward the target, the stretch is that whole
+//!   fall, up to five drops long, so the height falls while the reach does
+//!   (no joint turning at the foot of the vertical move);
 //! - release: the object's bottom `release_clearance` above the box's wall
 //!   top (or above the pieces already in the box that the open fingers
 //!   pass over, plus their margin: [`crate::place::Release::floor`]),
@@ -280,9 +283,17 @@ pub fn lift(
     // moves on a quarter ellipse instead of a corner, where nothing under
     // that stretch needs more than the approach height (not on the
     // full-height fallback).
+    let base_of = |p: [f64; 2]| scenario.pixel_to_base(p);
     let ease = |leg: &[[f64; 2]], at_end: bool| match request.full_height {
         true => leg.iter().map(|&p| (p, carry_height)).collect(),
-        false => eased(leg, metres, &need, [approach, carry_height], at_end),
+        false => eased(
+            leg,
+            metres,
+            &need,
+            &base_of,
+            [approach, carry_height],
+            at_end,
+        ),
     };
     let (travel, carry) = (ease(&travel, true), ease(&carry, false));
     let at = |p: [f64; 2], h: f64| {
@@ -460,19 +471,36 @@ fn needs(leg: &[[f64; 2]], need: &dyn Fn([f64; 2], [f64; 2]) -> f64) -> Vec<f64>
 /// a vertical move, from the route's end.
 const EASE_SAMPLES: usize = 16;
 
+/// Longest horizontal span of an eased turn, in drops (`high − low`).
+const MAX_EASE_SPAN: f64 = 5.0;
+
+/// Rises of the reach from the base (metres) smaller than this do not
+/// end a stretch on which it falls toward the target.
+const REACH_NOISE: f64 = 1e-4;
+
 /// The leg's points (pixels) with their heights (metres above the table):
 /// at `high` = `heights[1]`, except that over the stretch nearest the
 /// target (the leg's end when `at_end`, else its start) the height follows
 /// a quarter ellipse down to `low` = `heights[0]` at the target, arriving
-/// vertically, with a horizontal reach of `high − low` metres (the circle)
-/// or the whole leg when shorter. The ellipse is used only when no segment
-/// of that stretch needs more than `low` (`need`, metres): everything on it
-/// is at least as high as its need. The stretch is resampled so the curve
-/// has `EASE_SAMPLES` points.
+/// vertically. Its horizontal span is the drop `high − low`, or, where
+/// the tool's reach from the robot base (`base_of`: pixels to base-frame
+/// metres) falls toward the target, the leg's whole last stretch on which
+/// it falls, at most [`MAX_EASE_SPAN`] drops (the whole leg when shorter):
+/// the height then falls while the reach does, so a joint that the falling
+/// reach moves against the descent (the iiwa's shoulder on a leg passing
+/// the base tangentially into the target) is carried past that turn by
+/// the descent instead of turning at the foot of it and again on the
+/// vertical line. A reach that rises into the target moves such joints
+/// the descent's way already.
+/// The ellipse is used only when no segment of that stretch needs more
+/// than `low` (`need`, metres): everything on it is at least as high as
+/// its need; when the long stretch is not clear, the drop's length is
+/// tried. The stretch is resampled so the curve has `EASE_SAMPLES` points.
 fn eased(
     leg: &[[f64; 2]],
     metres: [f64; 2],
     need: &dyn Fn([f64; 2], [f64; 2]) -> f64,
+    base_of: &dyn Fn([f64; 2]) -> [f64; 2],
     [low, high]: [f64; 2],
     at_end: bool,
 ) -> Vec<([f64; 2], f64)> {
@@ -485,37 +513,87 @@ fn eased(
     for i in 1..points.len() {
         s[i] = s[i - 1] + planar_distance(points[i - 1], points[i], metres);
     }
-    let reach = (high - low).min(s.last().copied().unwrap_or(0.0));
-    let clear = needs(&points, need)
-        .iter()
-        .zip(&s)
-        .all(|(n, &from)| from >= reach || *n <= low);
-    let mut out: Vec<([f64; 2], f64)> = if reach <= 1e-6 || high <= low || !clear {
-        points.iter().map(|&p| (p, high)).collect()
-    } else {
-        let at = |d: f64| {
-            let k = s.partition_point(|&x| x < d).clamp(1, points.len() - 1);
-            let t = ((d - s[k - 1]) / (s[k] - s[k - 1]).max(1e-12)).clamp(0.0, 1.0);
-            [0, 1].map(|c| points[k - 1][c] + t * (points[k][c] - points[k - 1][c]))
-        };
-        let curve = (0..=EASE_SAMPLES).map(|i| {
-            let phi = i as f64 / EASE_SAMPLES as f64 * std::f64::consts::FRAC_PI_2;
-            (
-                at(reach * (1.0 - phi.cos())),
-                low + (high - low) * phi.sin(),
-            )
-        });
-        let rest = points
+    let length = s.last().copied().unwrap_or(0.0);
+    let drop = high - low;
+    let falling = falling_stretch(&points, &s, base_of);
+    let needs = needs(&points, need);
+    let clear = |reach: f64| {
+        needs
             .iter()
             .zip(&s)
-            .filter(|&(_, &d)| d > reach + 1e-9)
-            .map(|(&p, _)| (p, high));
-        curve.chain(rest).collect()
+            .all(|(n, &from)| from >= reach || *n <= low)
+    };
+    let reach = [falling.clamp(drop, MAX_EASE_SPAN * drop), drop]
+        .map(|r| r.min(length))
+        .into_iter()
+        .find(|&r| r > 1e-6 && clear(r));
+    let mut out: Vec<([f64; 2], f64)> = match reach {
+        Some(reach) if high > low => {
+            let at = |d: f64| {
+                let k = s.partition_point(|&x| x < d).clamp(1, points.len() - 1);
+                let t = ((d - s[k - 1]) / (s[k] - s[k - 1]).max(1e-12)).clamp(0.0, 1.0);
+                [0, 1].map(|c| points[k - 1][c] + t * (points[k][c] - points[k - 1][c]))
+            };
+            let curve = (0..=EASE_SAMPLES).map(|i| {
+                let phi = i as f64 / EASE_SAMPLES as f64 * std::f64::consts::FRAC_PI_2;
+                (at(reach * (1.0 - phi.cos())), low + drop * phi.sin())
+            });
+            let rest = points
+                .iter()
+                .zip(&s)
+                .filter(|&(_, &d)| d > reach + 1e-9)
+                .map(|(&p, _)| (p, high));
+            curve.chain(rest).collect()
+        }
+        _ => points.iter().map(|&p| (p, high)).collect(),
     };
     if at_end {
         out.reverse();
     }
     out
+}
+
+/// Arc length (metres, `s`) from the first point (the target) over which
+/// the reach from the base (the norm of `base_of`, pixels to base-frame
+/// metres, an affine map) grows, i.e. falls toward the target; rises of at
+/// most [`REACH_NOISE`] are ignored. On a straight segment the reach is
+/// least at the foot of the perpendicular from the base, the one place
+/// inside it where the reach can turn.
+fn falling_stretch(points: &[[f64; 2]], s: &[f64], base_of: &dyn Fn([f64; 2]) -> [f64; 2]) -> f64 {
+    let reach = |p: [f64; 2]| {
+        let [x, y] = base_of(p);
+        x.hypot(y)
+    };
+    let mut samples = points
+        .first()
+        .map(|&p| (0.0, reach(p)))
+        .into_iter()
+        .collect::<Vec<_>>();
+    for k in 1..points.len() {
+        let (a, b) = (base_of(points[k - 1]), base_of(points[k]));
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let t = -(a[0] * d[0] + a[1] * d[1]) / (d[0] * d[0] + d[1] * d[1]).max(1e-18);
+        if t > 0.0 && t < 1.0 {
+            let foot = [a[0] + t * d[0], a[1] + t * d[1]];
+            samples.push((s[k - 1] + t * (s[k] - s[k - 1]), foot[0].hypot(foot[1])));
+        }
+        samples.push((s[k], reach(points[k])));
+    }
+    let Some(&(_, first)) = samples.first() else {
+        return 0.0;
+    };
+    let (mut extreme, mut at) = (first, 0.0);
+    for &(from, r) in &samples[1..] {
+        let change = r - extreme;
+        if change.abs() <= REACH_NOISE {
+            continue;
+        }
+        if change < 0.0 {
+            return at;
+        }
+        (extreme, at) = (r, from);
+    }
+    s.last().copied().unwrap_or(0.0)
 }
 
 /// Horizontal distance (metres) between two pixels, `metres` per pixel
@@ -607,13 +685,18 @@ mod tests {
 
     const MM: [f64; 2] = [0.001, 0.001];
 
+    /// Base frame (metres) with the base 0.5 m beside the test legs'
+    /// x = 140 px: the reach rises over their last 60 mm to their end at
+    /// x = 200 px, so the turn is eased over one drop.
+    const BESIDE: fn([f64; 2]) -> [f64; 2] = |p| [(p[0] - 140.0) * 0.001, (p[1] + 500.0) * 0.001];
+
     /// The turn over the target is a quarter ellipse: it ends at the low
     /// height going straight down, never dips below what the stretch needs,
     /// and reaches the route's height one drop's length before the target.
     #[test]
     fn lift_eases_the_turn_over_the_target_where_nothing_under_needs_more() {
         let leg = [[0.0, 0.0], [100.0, 0.0], [200.0, 0.0]];
-        let eased = eased(&leg, MM, &|_, _| 0.08, [0.12, 0.18], true);
+        let eased = eased(&leg, MM, &|_, _| 0.08, &BESIDE, [0.12, 0.18], true);
         let (last, before) = (eased[eased.len() - 1], eased[eased.len() - 2]);
         assert_eq!(last, ([200.0, 0.0], 0.12));
         // Arriving vertically: the last step is mostly down.
@@ -633,15 +716,39 @@ mod tests {
     fn lift_keeps_the_corner_where_something_under_needs_the_height() {
         let leg = [[0.0, 0.0], [100.0, 0.0], [200.0, 0.0]];
         let need = |a: [f64; 2], _: [f64; 2]| if a[0] >= 100.0 { 0.15 } else { 0.08 };
-        let eased = eased(&leg, MM, &need, [0.12, 0.18], true);
+        let eased = eased(&leg, MM, &need, &BESIDE, [0.12, 0.18], true);
         assert!(eased.iter().all(|&(_, z)| (z - 0.18).abs() < 1e-12));
         // The other end eases the same way when it is the target's.
         let from_start = eased_heights(&leg, [0.12, 0.18]);
         assert_eq!(from_start.first(), Some(&0.12));
     }
 
+    /// A leg passing the base tangentially, its reach from the base least
+    /// over the target (falling all the way to it): the descent spans five
+    /// drops (300 mm) of it, so the height falls wherever the reach does
+    /// and a joint that both move (the iiwa's shoulder) does not turn where
+    /// the leg meets the vertical move. Eased over one drop (60 mm) only,
+    /// the reach fell at the carry height first.
+    #[test]
+    fn lift_descends_over_the_whole_stretch_where_the_reach_falls_toward_the_target() {
+        let leg: Vec<[f64; 2]> = (0..=80).map(|k| [5.0 * k as f64, 0.0]).collect();
+        let beside = |p: [f64; 2]| [(p[0] - 400.0) * 0.001, 0.5];
+        let eased = eased(&leg, MM, &|_, _| 0.08, &beside, [0.12, 0.18], true);
+        for &(p, z) in &eased {
+            if p[0] >= 105.0 {
+                assert!(z < 0.18 - 1e-9, "flat at {p:?} where the reach falls");
+            } else if p[0] <= 100.0 {
+                assert!((z - 0.18).abs() < 1e-12, "{p:?} {z}");
+            }
+        }
+        // Still arriving vertically at the approach height.
+        let (last, before) = (eased[eased.len() - 1], eased[eased.len() - 2]);
+        assert_eq!(last, ([400.0, 0.0], 0.12));
+        assert!(before.1 - last.1 > 2.0 * (last.0[0] - before.0[0]) * 0.001);
+    }
+
     fn eased_heights(leg: &[[f64; 2]], heights: [f64; 2]) -> Vec<f64> {
-        eased(leg, MM, &|_, _| 0.0, heights, false)
+        eased(leg, MM, &|_, _| 0.0, &BESIDE, heights, false)
             .into_iter()
             .map(|(_, z)| z)
             .collect()
