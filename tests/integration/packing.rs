@@ -1,6 +1,15 @@
 //! Packing released pieces into goal boxes (issue 9, item 4): a round piece
-//! packs by its stadium, not its bounding box, and the independent check
-//! agrees on its own geometry (tests/fixtures/packing/).
+//! packs by its stadium, not its bounding box, a chained piece leaves room
+//! for the later ones, the monitor agrees on the spots, and the independent
+//! check agrees on its own geometry (tests/fixtures/packing/).
+
+use afford::collision::RobotGeometry;
+use afford::kinematics::RobotModel;
+use afford::planner::clearance::gripper_reach;
+use afford::planner::grid::{GridRequest, StateGrid};
+use afford::planner::monitor::policy::{Remaining, check};
+use afford::planner::place::Room;
+use afford::planner::{PlanOptions, Planner, scenario};
 
 use crate::util::{afford_with_path, fixture, plan_to_file, scratch_dir};
 
@@ -58,4 +67,63 @@ fn chained_round_pieces_leave_room_for_the_later_ones() {
     let targets = report["physics"]["targets"].as_array().expect("targets");
     assert_eq!(targets.len(), 4);
     assert!(targets.iter().all(|t| t["in_goal"] == true), "{targets:?}");
+}
+
+/// The monitor's valid-policy check rebuilds each sub-goal's grid on the
+/// scene as planned (the same fixture, nothing changed): its release spot
+/// is the plan's to the bit, since it leaves room for the same later
+/// pieces (`SubgoalPlan::room_for`), and the rest of every policy passes.
+/// Without them green-circle-2's spot would be the one beside
+/// green-circle-1.
+#[test]
+fn monitor_rebuilds_the_spot_that_leaves_room() {
+    let path = fixture("packing/chained-round-pieces-leave-room.yaml");
+    let scenario = scenario::load(&path).expect("loads");
+    let options = PlanOptions::default().for_scenario_file(&path);
+    let plan = Planner::new(options).plan(&scenario).expect("plans");
+    assert!(plan.unsolved.is_empty(), "{:?}", plan.unsolved);
+    let robot = RobotModel::builtin("care_o_bot4").expect("robot");
+    let geometry = RobotGeometry::new(&robot).expect("geometry");
+    let opening = Some(
+        gripper_reach(&robot, &geometry)
+            .expect("gripper")
+            .finger_half_extent,
+    );
+    let mut scene = scenario.clone();
+    let mut moved = Vec::new();
+    for sub in &plan.subgoals {
+        let (object, goal) = (
+            scene.object_index(&sub.object).expect("object"),
+            scene.goal_index(&sub.goal).expect("goal"),
+        );
+        let remaining = Remaining {
+            plan: sub,
+            done: 0,
+            holding: false,
+            target_box: scene.objects[object].bbox,
+            opening,
+        };
+        assert_eq!(check(&scene, &remaining), Ok(()), "{}", sub.object);
+        let request = GridRequest {
+            object,
+            goal,
+            gripper: scene.objects[object].bbox.centre(),
+        };
+        let spot = |later: &[usize]| {
+            let grid = StateGrid::build_placing(&scene, request, Room { opening, later });
+            grid.release.expect("a spot").spot
+        };
+        let later: Vec<usize> = sub
+            .room_for
+            .iter()
+            .map(|name| scene.object_index(name).expect("object"))
+            .collect();
+        assert_eq!(spot(&later), sub.release_px, "{}", sub.object);
+        if spot(&[]) != sub.release_px {
+            moved.push(sub.object.clone());
+        }
+        let b = &mut scene.objects[object].bbox;
+        *b = b.centred_at(sub.release_px);
+    }
+    assert_eq!(moved, ["green-circle-2"]);
 }
