@@ -23,6 +23,7 @@ use crate::lift::{
 };
 use crate::motion::{IK_STARTS, IkStart, solve_motions};
 use crate::oracle;
+use crate::place::Room;
 use crate::scenario::{PixelBox, Scenario};
 use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
@@ -186,6 +187,11 @@ pub struct SubgoalPlan {
     /// Pixel `[u, v]` where the object is released and rests: its spot in
     /// the goal box, inside the drop cell ([`crate::place`]).
     pub release_px: [f64; 2],
+    /// The objects released into the same goal later in the chain that the
+    /// spot leaves room for ([`Room::later`]); not serialised (the monitor
+    /// chooses the same spot with them).
+    #[serde(skip)]
+    pub room_for: Vec<String>,
     pub training_steps: usize,
     /// Shortest possible plan length (BFS oracle), for comparison.
     pub optimal_length: usize,
@@ -460,8 +466,16 @@ impl Planner {
             let goal = &goals[k];
             let request = request(&world.scene, goal, world.gripper_px);
             snapshots[k] = Some(world.snapshot());
-            let seed = subgoal_seed(self.options.seed, k);
-            let refused = match self.plan_subgoal(world, goal, request, seed, park[k], timings) {
+            let later = later_in_goal(&world.scene, goals, k);
+            let pass = Pass {
+                world,
+                goal,
+                request,
+                seed: subgoal_seed(self.options.seed, k),
+                park: park[k],
+                later: &later,
+            };
+            let refused = match self.plan_subgoal(pass, timings) {
                 Ok(done) => {
                     world.advance(request, &done);
                     outcomes.push(Ok(done));
@@ -620,26 +634,11 @@ impl Planner {
     }
 
     /// One sub-goal through the stages: grid → CQL → lift → IK. `Err` is the
-    /// reason it cannot be planned. `park`: the arm returns to its park
-    /// posture at the end (when it has one).
-    fn plan_subgoal(
-        &self,
-        world: &World,
-        goal: &SubGoal,
-        request: GridRequest,
-        seed: u64,
-        park: bool,
-        timings: &mut StageTimings,
-    ) -> Result<SubgoalPlan, Refused> {
+    /// reason it cannot be planned.
+    fn plan_subgoal(&self, pass: Pass, timings: &mut StageTimings) -> Result<SubgoalPlan, Refused> {
+        let (world, request) = (pass.world, pass.request);
         let mut retry = Retry::default();
         loop {
-            let pass = Pass {
-                world,
-                goal,
-                request,
-                seed,
-                park,
-            };
             let hit = match self.attempt(&pass, &retry, timings)? {
                 Attempt::Planned(done) => return Ok(*done),
                 Attempt::Collides(hit) => hit,
@@ -682,7 +681,7 @@ impl Planner {
             .map_err(Refused::early)?;
         }
         let task = timed(&mut timings.grid, || {
-            let mut grid = StateGrid::build_placing(scene, request, opening(world));
+            let mut grid = StateGrid::build_placing(scene, request, room(world, pass.later));
             blocked.iter().for_each(|&cell| grid.block(cell));
             GridTask::new(grid)
         });
@@ -690,7 +689,7 @@ impl Planner {
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
         let Some(optimal) = oracle::optimal_length(&task) else {
             return Err(match blocked.is_empty() {
-                true => Refused::early(why_unsolvable(scene, request, opening(world))),
+                true => Refused::early(why_unsolvable(scene, request, room(world, pass.later))),
                 false => Refused::motion(Refusal::NoRoute {
                     object: scene.objects[request.object].name.clone(),
                     goal: scene.goals[request.goal].name.clone(),
@@ -703,7 +702,8 @@ impl Planner {
                 training_steps: learned.training_steps,
             }));
         }
-        let mut done = subgoal_plan(goal, &task, &learned, optimal);
+        let room_for = pass.later.iter().map(|&j| scene.objects[j].name.clone());
+        let mut done = subgoal_plan(goal, &task, &learned, optimal, room_for.collect());
         if options.until < Stage::Waypoints {
             return Ok(Attempt::Planned(Box::new(done)));
         }
@@ -1038,13 +1038,17 @@ fn leading_blocked(
 const TRANSIT_STREAM: u64 = 0x7472_616e_7369_7473;
 
 /// One sub-goal's inputs to a pass through the stages.
+#[derive(Clone, Copy)]
 struct Pass<'a> {
     world: &'a World,
     goal: &'a SubGoal,
     request: GridRequest,
     seed: u64,
-    /// The arm returns to park at the end.
+    /// The arm returns to park at the end (when it has a park posture).
     park: bool,
+    /// The objects the chain releases into the same goal later
+    /// ([`later_in_goal`]).
+    later: &'a [usize],
 }
 
 /// Why a sub-goal was not planned.
@@ -1317,6 +1321,7 @@ fn subgoal_plan(
     task: &GridTask,
     learned: &LearnedPlan,
     optimal_length: usize,
+    room_for: Vec<String>,
 ) -> SubgoalPlan {
     let grid = &task.grid;
     SubgoalPlan {
@@ -1329,6 +1334,7 @@ fn subgoal_plan(
             .release
             .map(|r| r.spot)
             .unwrap_or_else(|_| grid.centre(*learned.cells.last().unwrap_or(&grid.start))),
+        room_for,
         training_steps: learned.training_steps,
         optimal_length,
         grid: GridInfo {
@@ -1344,11 +1350,25 @@ fn subgoal_plan(
     }
 }
 
-/// The half-widths a release spot leaves room for: the grasp region's
-/// colliders about the TCP, at least the open fingers (m, see
-/// [`GripperReach::finger_half_extent`]), once the robot is known.
-fn opening(world: &World) -> Option<[f64; 2]> {
-    world.gripper.map(|g| g.finger_half_extent)
+/// What a release spot leaves room for: the grasp region's colliders about
+/// the TCP, at least the open fingers (m, see
+/// [`GripperReach::finger_half_extent`]), once the robot is known, and the
+/// chain's `later` pieces for the same goal.
+fn room<'a>(world: &World, later: &'a [usize]) -> Room<'a> {
+    Room {
+        opening: world.gripper.map(|g| g.finger_half_extent),
+        later,
+    }
+}
+
+/// The objects of `goals[k + 1..]` bound for `goals[k]`'s goal, in order:
+/// the pieces its release spot leaves room for ([`Room::later`]).
+fn later_in_goal(scene: &Scenario, goals: &[SubGoal], k: usize) -> Vec<usize> {
+    goals[k + 1..]
+        .iter()
+        .filter(|g| g.goal == goals[k].goal)
+        .filter_map(|g| scene.object_index(&g.object))
+        .collect()
 }
 
 /// The refusal of a collision `hit` of `arm` at `place`.
@@ -1367,8 +1387,8 @@ fn collides(arm: &str, hit: &Collision, place: HitPlace) -> Refusal {
 }
 
 /// Why the oracle finds no plan, in terms a user can act on.
-fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 2]>) -> Refusal {
-    let grid = StateGrid::build_placing(scene, request, opening);
+fn why_unsolvable(scene: &Scenario, request: GridRequest, room: Room) -> Refusal {
+    let grid = StateGrid::build_placing(scene, request, room);
     let object = scene.objects[request.object].name.clone();
     let goal = scene.goals[request.goal].name.clone();
     if grid.code(grid.target) == CellCode::Hand {
@@ -1384,7 +1404,7 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest, opening: Option<[f64; 
         hands: Vec::new(),
         ..scene.clone()
     };
-    let grid = StateGrid::build_placing(&without_hands, request, opening);
+    let grid = StateGrid::build_placing(&without_hands, request, room);
     if oracle::optimal_length(&GridTask::new(grid)).is_some() {
         return Refusal::HandBlocksRoute { object, goal };
     }

@@ -18,7 +18,7 @@
 //!   box that is an obstacle for the next sub-goal), that connected obstacle
 //!   region is cleared: the gripper is above it and must be able to leave.
 
-use crate::place::{NoSpot, Release, release_spot};
+use crate::place::{NoSpot, Release, Room, release_spot};
 use crate::scenario::{PixelBox, Scenario};
 
 /// The semantic code of a cell, with the paper's numeric values.
@@ -110,13 +110,14 @@ impl StateGrid {
     /// `scenario.goals[req.goal]` with the gripper at `req.gripper`; the
     /// resting spot leaves room for the object only ([`Self::build_placing`]).
     pub fn build(scenario: &Scenario, req: GridRequest) -> Self {
-        Self::build_placing(scenario, req, None)
+        Self::build_placing(scenario, req, Room::default())
     }
 
     /// [`Self::build`] with the resting spot chosen so the open fingers
-    /// (`opening`, m, across the grasp axis) also keep the pieces already in
-    /// the goal at their margins.
-    pub fn build_placing(scenario: &Scenario, req: GridRequest, opening: Option<[f64; 2]>) -> Self {
+    /// (`room.opening`, m, across the grasp axis) also keep the pieces
+    /// already in the goal at their margins, and the pieces the chain
+    /// releases there later (`room.later`) still fit.
+    pub fn build_placing(scenario: &Scenario, req: GridRequest, room: Room) -> Self {
         let target_box = scenario.objects[req.object].bbox;
         let cell_size = [target_box.w, target_box.l];
         let image = [scenario.camera.width as f64, scenario.camera.height as f64];
@@ -147,7 +148,7 @@ impl StateGrid {
         grid.paint_scene(scenario, req);
         grid.clear_escape(grid.start);
         grid.escape = grid.escape_from(req.gripper);
-        grid.release = release_spot(scenario, req.object, req.goal, opening, |p| {
+        grid.release = release_spot(scenario, req.object, req.goal, room, |p| {
             grid.code(grid.cell_at(p)) == CellCode::Goal
         });
         grid.drop = grid.release.ok().map(|r| grid.cell_at(r.spot));

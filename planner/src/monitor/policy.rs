@@ -7,11 +7,14 @@
 //! longer beside the goal; and DROP where the planned release spot is no
 //! longer inside the goal (experiment 4: "the drop would land on a 0.0
 //! cell") is one too. The sub-goal's own target is left where the plan saw
-//! it while it is held, so the grid keeps its geometry.
+//! it while it is held, so the grid keeps its geometry, and its release
+//! spot leaves room for the later pieces the plan's did
+//! ([`SubgoalPlan::room_for`]), so the DROP cell is the plan's.
 
 use serde::Serialize;
 
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
+use crate::place::Room;
 use crate::plan::SubgoalPlan;
 use crate::scenario::{PixelBox, Scenario};
 use crate::task::{Action, AgentState, GridTask, Outcome};
@@ -60,6 +63,12 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
     planned.objects[object].bbox = r.target_box;
     let cells: Vec<Cell> = plan.cells.iter().map(|&[a, b]| (a, b)).collect();
     let from = cells[r.done.min(cells.len() - 1)];
+    // The spot leaves room for the same later pieces as when planned.
+    let later: Vec<usize> = plan
+        .room_for
+        .iter()
+        .filter_map(|name| scene.object_index(name))
+        .collect();
     let grid = StateGrid::build_placing(
         &planned,
         GridRequest {
@@ -67,7 +76,10 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
             goal,
             gripper: centre(plan, from),
         },
-        r.opening,
+        Room {
+            opening: r.opening,
+            later: &later,
+        },
     );
     if !release_inside(&planned, object, goal, plan.release_px) {
         return Err(Fault::GoalMoved);

@@ -11,6 +11,23 @@
 //! rows from one corner. A candidate is free when the object's footprint
 //! keeps [`WALL_CLEARANCE`] from every piece already in the box.
 //!
+//! Lookahead ([`Room::later`]): the chain's later pieces for the same box
+//! are packed after this one, each by the same rule, so bottom-left fill
+//! may put a piece where a later one no longer fits (three round pieces
+//! that fit only as two in opposite corners of one side and the third
+//! between them). The spot is the first free one (in the fill order, among
+//! those the gripper may reach) after which the later pieces still each
+//! find a free spot in turn: a depth-first search over their lattices in
+//! fill order, each later piece at its first spot from which the rest fit.
+//! When no spot leaves room for all of them, the first n that fit (n as
+//! large as any spot allows) decide; when none fits, or after
+//! [`LOOKAHEAD_GAPS`] footprint distances, the spot is the first free one.
+//! Where bottom-left fill leaves room for the later pieces, its spot is
+//! kept, so such plans are unchanged; the later call for the next piece
+//! finds a spot again (the search's own one, or an earlier one from which
+//! the rest fit). Later pieces are tested by their footprints alone (where
+//! the gripper may go is their own grid's test).
+//!
 //! Footprints ([`Outline`]): a piece is its pixel box, or, when round
 //! ([`is_round`]), the stadium inside that box — the disc of its narrower
 //! side swept along the longer (a disc for a square box), as the collision
@@ -37,7 +54,7 @@ use afford_collision::GOAL_WALL;
 
 use crate::error::Refusal;
 use crate::geometry::object_margin;
-use crate::scenario::{Object, Scenario};
+use crate::scenario::{Object, PixelBox, Scenario};
 
 /// Shapes whose outline seen from above is round.
 pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
@@ -107,19 +124,92 @@ pub struct Release {
     pub floor: f64,
 }
 
+/// What a release spot leaves room for besides the object itself.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Room<'a> {
+    /// The half-widths of what is lowered around the object (the grasp
+    /// region's colliders, at least the open fingers; m, `[along the
+    /// object's longer side, across it]`), `None` when unknown.
+    pub opening: Option<[f64; 2]>,
+    /// Objects (indices) the chain releases into the same goal later, in
+    /// order: the spot is the first after which they still fit (see the
+    /// module doc). Those already in the goal, the object itself and those
+    /// past the first [`LOOKAHEAD_PIECES`] are not looked at.
+    pub later: &'a [usize],
+}
+
 /// Where `scenario.objects[object]` is released into
 /// `scenario.goals[goal]`: the first free lattice spot that `allowed`
-/// accepts (the grid's test that the gripper may go there), and its release
-/// floor. `opening`: the half-widths of what is lowered around the object
-/// (the grasp region's colliders, at least the open fingers; m, `[along the
-/// object's longer side, across it]`), `None` when unknown.
+/// accepts (the grid's test that the gripper may go there) after which the
+/// most of `room.later` still fit, and its release floor under
+/// `room.opening`.
 pub fn release_spot(
     s: &Scenario,
     object: usize,
     goal: usize,
-    opening: Option<[f64; 2]>,
+    room: Room,
     allowed: impl Fn([f64; 2]) -> bool,
 ) -> Result<Release, NoSpot> {
+    let spots = lattice(s, object, goal).ok_or(NoSpot::TooLarge)?;
+    let held = Outline::of(s, &s.objects[object]);
+    let lowered = Outline::lowered(s, object, room.opening);
+    let pieces: Vec<usize> = (0..s.objects.len())
+        .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
+        .collect();
+    let resting: Vec<Resting> = pieces
+        .iter()
+        .map(|&j| Resting::of(s, &s.objects[j]))
+        .collect();
+    let mpp = s.metres_per_pixel();
+    let free: Vec<[f64; 2]> = spots
+        .into_iter()
+        .filter(|&p| held.keeps_clear(mpp, p, &resting))
+        .collect();
+    if free.is_empty() {
+        return Err(NoSpot::Full);
+    }
+    let open = || free.iter().copied().filter(|&p| allowed(p));
+    let first = open().next().ok_or(NoSpot::Covered)?;
+    let later: Vec<usize> = room
+        .later
+        .iter()
+        .copied()
+        .filter(|&j| j != object && j < s.objects.len() && !pieces.contains(&j))
+        .take(LOOKAHEAD_PIECES)
+        .collect();
+    let mut lookahead = Lookahead::new(s, goal, &later);
+    let placed = |p: [f64; 2]| {
+        let bbox = s.objects[object].bbox.centred_at(p);
+        let mut placed = resting.clone();
+        placed.push(Resting {
+            outline: held,
+            centre: bbox.centre(),
+        });
+        placed
+    };
+    let spot = lookahead
+        .first_leaving_room(open(), placed)
+        .unwrap_or(first);
+    let floor = pieces
+        .iter()
+        .map(|&j| (j, object_margin(s, &s.objects[j])))
+        .filter(|&(j, margin)| gap(s, &lowered, spot, j) < margin + WALL_CLEARANCE)
+        .map(|(j, margin)| s.top_above_table(&s.objects[j]) + margin)
+        .fold(0.0, f64::max);
+    Ok(Release { spot, floor })
+}
+
+/// Most later pieces a release looks ahead to ([`Room::later`]).
+pub const LOOKAHEAD_PIECES: usize = 8;
+/// Most footprint distances the lookahead computes for one release: when
+/// they run out, the spot is the first free one, as without lookahead.
+pub const LOOKAHEAD_GAPS: usize = 1 << 20;
+
+/// The candidate centres (pixels) of `scenario.objects[object]` in
+/// `scenario.goals[goal]`, in fill order (see the module doc); `None` when
+/// its footprint is larger than the inner rectangle. At most
+/// [`LATTICE_POINTS`] squared.
+fn lattice(s: &Scenario, object: usize, goal: usize) -> Option<Vec<[f64; 2]>> {
     let [mu, mv] = s.metres_per_pixel();
     let held = s.objects[object].bbox;
     let g = s.goals[goal].bbox;
@@ -130,7 +220,7 @@ pub fn release_spot(
     let lo = [g.u + inset[0], g.v + inset[1]];
     let hi = [g.u + g.w - inset[0], g.v + g.l - inset[1]];
     if lo[0] > hi[0] || lo[1] > hi[1] {
-        return Err(NoSpot::TooLarge);
+        return None;
     }
     let axis = |k: usize, mpp: f64| {
         let span = hi[k] - lo[k];
@@ -143,29 +233,104 @@ pub fn release_spot(
             .collect::<Vec<f64>>()
     };
     let (us, vs) = (axis(0, mu), axis(1, mv));
-    let spots = vs.iter().flat_map(|&v| us.iter().map(move |&u| [u, v]));
-    let held = Outline::of(s, &s.objects[object]);
-    let lowered = Outline::lowered(s, object, opening);
-    let pieces: Vec<usize> = (0..s.objects.len())
-        .filter(|&j| j != object && s.goal_holding(&s.objects[j]) == Some(goal))
-        .collect();
-    let clear = |p: [f64; 2]| {
-        pieces
-            .iter()
-            .all(|&j| gap(s, &held, p, j) >= WALL_CLEARANCE)
-    };
-    let mut free = spots.filter(|&p| clear(p)).peekable();
-    if free.peek().is_none() {
-        return Err(NoSpot::Full);
+    Some(
+        vs.iter()
+            .flat_map(|&v| us.iter().map(move |&u| [u, v]))
+            .collect(),
+    )
+}
+
+/// A footprint where it rests: its outline and its centre (px).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Resting {
+    outline: Outline,
+    centre: [f64; 2],
+}
+
+impl Resting {
+    /// Object `o` where it lies.
+    fn of(s: &Scenario, o: &Object) -> Self {
+        Self {
+            outline: Outline::of(s, o),
+            centre: o.bbox.centre(),
+        }
     }
-    let spot = free.find(|&p| allowed(p)).ok_or(NoSpot::Covered)?;
-    let floor = pieces
-        .iter()
-        .map(|&j| (j, object_margin(s, &s.objects[j])))
-        .filter(|&(j, margin)| gap(s, &lowered, spot, j) < margin + WALL_CLEARANCE)
-        .map(|(j, margin)| s.top_above_table(&s.objects[j]) + margin)
-        .fold(0.0, f64::max);
-    Ok(Release { spot, floor })
+}
+
+/// The search for room for the later pieces: whether each, in turn, still
+/// finds a free lattice spot (its first in fill order from which the rest
+/// fit, depth first), within [`LOOKAHEAD_GAPS`] footprint distances.
+struct Lookahead {
+    /// Each later piece's footprint, box and candidate centres.
+    pieces: Vec<(Outline, PixelBox, Vec<[f64; 2]>)>,
+    mpp: [f64; 2],
+    /// Footprint distances left to compute.
+    budget: usize,
+}
+
+impl Lookahead {
+    /// The later pieces `later` of goal `goal`, those that fit the goal at
+    /// all (a larger one is refused on its own).
+    fn new(s: &Scenario, goal: usize, later: &[usize]) -> Self {
+        let pieces = later
+            .iter()
+            .filter_map(|&j| {
+                let o = &s.objects[j];
+                lattice(s, j, goal).map(|spots| (Outline::of(s, o), o.bbox, spots))
+            })
+            .collect();
+        Self {
+            pieces,
+            mpp: s.metres_per_pixel(),
+            budget: LOOKAHEAD_GAPS,
+        }
+    }
+
+    /// The first of `candidates` (fill order) after which the most later
+    /// pieces — the first n, n as large as any spot allows — still fit;
+    /// `None` when none does or the budget ran out. `placed(p)`: the
+    /// footprints in the goal once the object rests at `p`.
+    fn first_leaving_room(
+        &mut self,
+        candidates: impl Iterator<Item = [f64; 2]> + Clone,
+        placed: impl Fn([f64; 2]) -> Vec<Resting>,
+    ) -> Option<[f64; 2]> {
+        for n in (1..=self.pieces.len()).rev() {
+            for p in candidates.clone() {
+                if self.fit(&mut placed(p), 0, n)? {
+                    return Some(p);
+                }
+            }
+        }
+        None
+    }
+
+    /// Whether the later pieces `depth..n` each find a spot in turn beside
+    /// `placed` (the goal's pieces and the earlier later ones); `None` when
+    /// the budget ran out.
+    fn fit(&mut self, placed: &mut Vec<Resting>, depth: usize, n: usize) -> Option<bool> {
+        if depth == n {
+            return Some(true);
+        }
+        let (outline, bbox) = (self.pieces[depth].0, self.pieces[depth].1);
+        for i in 0..self.pieces[depth].2.len() {
+            let p = self.pieces[depth].2[i];
+            self.budget = self.budget.checked_sub(placed.len().max(1))?;
+            if !outline.keeps_clear(self.mpp, p, placed) {
+                continue;
+            }
+            placed.push(Resting {
+                outline,
+                centre: bbox.centred_at(p).centre(),
+            });
+            let fits = self.fit(placed, depth + 1, n);
+            placed.pop();
+            if fits? {
+                return Some(true);
+            }
+        }
+        Some(false)
+    }
 }
 
 /// A footprint on the table: the points within `radius` (m) of a rectangle
@@ -217,10 +382,22 @@ impl Outline {
     /// Distance (m) between this footprint centred at `p` and `other`
     /// centred at `q` (pixels), 0 when they overlap.
     pub fn gap(&self, s: &Scenario, p: [f64; 2], other: &Self, q: [f64; 2]) -> f64 {
-        let [mu, mv] = s.metres_per_pixel();
+        self.gap_at(s.metres_per_pixel(), p, other, q)
+    }
+
+    /// [`Self::gap`] with the scene's metres per pixel `[mu, mv]`.
+    fn gap_at(&self, [mu, mv]: [f64; 2], p: [f64; 2], other: &Self, q: [f64; 2]) -> f64 {
         let apart = |k: usize| (p[k] - q[k]).abs() - self.core[k] - other.core[k];
         let (du, dv) = (apart(0).max(0.0) * mu, apart(1).max(0.0) * mv);
         (du.hypot(dv) - self.radius - other.radius).max(0.0)
+    }
+
+    /// Whether this footprint centred at `p` keeps [`WALL_CLEARANCE`] from
+    /// every one of `placed` (metres per pixel `mpp`).
+    fn keeps_clear(&self, mpp: [f64; 2], p: [f64; 2], placed: &[Resting]) -> bool {
+        placed
+            .iter()
+            .all(|r| self.gap_at(mpp, p, &r.outline, r.centre) >= WALL_CLEARANCE)
     }
 }
 
@@ -256,7 +433,17 @@ mod tests {
 
     /// Releases `object` into the left box and leaves it where it lands.
     fn release(s: &mut Scenario, object: usize, opening: Option<[f64; 2]>) -> Release {
-        let r = release_spot(s, object, 0, opening, |_| true).unwrap();
+        let r = release_spot(
+            s,
+            object,
+            0,
+            Room {
+                opening,
+                later: &[],
+            },
+            |_| true,
+        )
+        .unwrap();
         put(s, object, r.spot);
         r
     }
@@ -278,19 +465,22 @@ mod tests {
     fn full_goal_and_too_large_object_have_their_reasons() {
         let mut s = scene([20.0, 300.0, 80.0, 80.0]);
         put(&mut s, 0, [60.0, 340.0]);
-        assert_eq!(release_spot(&s, 1, 0, None, |_| true), Err(NoSpot::Full));
+        assert_eq!(
+            release_spot(&s, 1, 0, Room::default(), |_| true),
+            Err(NoSpot::Full)
+        );
         assert_eq!(
             NoSpot::Full.reason(&s, 1, 0).to_string(),
             "left box is full"
         );
         let small = scene([20.0, 300.0, 60.0, 60.0]);
         assert_eq!(
-            release_spot(&small, 1, 0, None, |_| true),
+            release_spot(&small, 1, 0, Room::default(), |_| true),
             Err(NoSpot::TooLarge)
         );
         let roomy = scene([20.0, 300.0, 160.0, 160.0]);
         assert_eq!(
-            release_spot(&roomy, 1, 0, None, |_| false),
+            release_spot(&roomy, 1, 0, Room::default(), |_| false),
             Err(NoSpot::Covered)
         );
     }
@@ -337,7 +527,18 @@ mod tests {
         let wall = s.goals[0].height;
         let mut placed = 0;
         for object in 0..s.objects.len() {
-            if release_spot(&s, object, 0, gripper, |_| true).is_err() {
+            if release_spot(
+                &s,
+                object,
+                0,
+                Room {
+                    opening: gripper,
+                    later: &[],
+                },
+                |_| true,
+            )
+            .is_err()
+            {
                 break;
             }
             release(&mut s, object, gripper);
@@ -384,9 +585,97 @@ mod tests {
         // A square of the same box finds no spot.
         let square = square_then("square");
         assert_eq!(
-            release_spot(&square, 1, 0, None, |_| true),
+            release_spot(&square, 1, 0, Room::default(), |_| true),
             Err(NoSpot::Full)
         );
+    }
+
+    /// Scene 195 of the transits bench (sizes in mm): circles of 27.7 x
+    /// 29.7, 31.6 x 32.2 and 44.5 x 46.2 for a box of 91.4 x 86.1 inside
+    /// its walls, released in that order.
+    fn three_circles() -> Scenario {
+        let mut s = default_scenario().unwrap();
+        let [mu, mv] = s.metres_per_pixel();
+        let px = |w: f64, l: f64| [w / 1e3 / mu, l / 1e3 / mv];
+        let wall = 2e3 * GOAL_WALL;
+        let [gw, gl] = px(91.4 + wall, 86.1 + wall);
+        s.goals[0].bbox = PixelBox::from([20.0, 300.0, gw, gl]);
+        for (i, (w, l)) in [(27.7, 29.7), (31.6, 32.2), (44.5, 46.2)]
+            .into_iter()
+            .enumerate()
+        {
+            let [w, l] = px(w, l);
+            s.objects[i].bbox = PixelBox::from([300.0 + 100.0 * i as f64, 60.0, w, l]);
+            s.objects[i].shape = "circle".into();
+        }
+        s
+    }
+
+    /// Releases `object` into the left box leaving room for `later`.
+    fn release_before(s: &mut Scenario, object: usize, later: &[usize]) -> Release {
+        let room = Room {
+            opening: None,
+            later,
+        };
+        let r = release_spot(s, object, 0, room, |_| true).unwrap();
+        put(s, object, r.spot);
+        r
+    }
+
+    #[test]
+    fn chained_round_pieces_leave_room_for_the_later_ones() {
+        // Bottom-left fill alone puts the second circle beside the first:
+        // the third finds no spot.
+        let mut plain = three_circles();
+        release(&mut plain, 0, None);
+        release(&mut plain, 1, None);
+        let third = release_spot(&plain, 2, 0, Room::default(), |_| true);
+        assert_eq!(third, Err(NoSpot::Full));
+        // Looking ahead, the first keeps its corner (after it the others
+        // fit), the second leaves room for the third, and all three rest
+        // apart by the clearance.
+        let mut s = three_circles();
+        assert_eq!(
+            release_before(&mut s, 0, &[1, 2]).spot,
+            s.objects[0].bbox.centre()
+        );
+        let first = plain.objects[0].bbox.centre();
+        assert_eq!(
+            s.objects[0].bbox.centre(),
+            first,
+            "the first spot unchanged"
+        );
+        let second = release_before(&mut s, 1, &[2]).spot;
+        assert_ne!(second, plain.objects[1].bbox.centre());
+        release_before(&mut s, 2, &[]);
+        for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+            let gap = footprint_gap(&s, a, b);
+            assert!(gap >= WALL_CLEARANCE, "{a} {b}: {gap}");
+        }
+    }
+
+    #[test]
+    fn lookahead_without_room_for_the_later_pieces_keeps_the_first_free_spot() {
+        // The large circle twice: never both with the others.
+        let mut s = three_circles();
+        s.objects[3].bbox = s.objects[2].bbox.centred_at([600.0, 60.0]);
+        s.objects[3].shape = "circle".into();
+        let plain = release_spot(&s, 0, 0, Room::default(), |_| true).unwrap();
+        let room = Room {
+            opening: None,
+            later: &[2, 3],
+        };
+        assert_eq!(release_spot(&s, 0, 0, room, |_| true), Ok(plain));
+        // The object itself, pieces already in the goal and unknown indices
+        // are not looked ahead to.
+        put(&mut s, 2, plain.spot);
+        let room = Room {
+            opening: None,
+            later: &[1, 1, 2, 99],
+        };
+        let with = release_spot(&s, 1, 0, room, |_| true).unwrap();
+        let without = release_spot(&s, 1, 0, Room::default(), |_| true).unwrap();
+        assert_eq!(with, without);
     }
 
     #[test]
