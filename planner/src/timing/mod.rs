@@ -86,6 +86,7 @@ pub mod sample;
 pub mod separation;
 pub mod spline;
 pub mod taut;
+pub mod tool_speed;
 pub mod topp;
 pub mod trajectory;
 
