@@ -97,6 +97,19 @@ pub fn excess(
         (motion.s_at(t - tau), motion.s_at(t))
     };
     let last = points.len() - 1;
+    // Per sample: the real tool's position, instantaneous speed and
+    // nearest hand distance.
+    let real: Option<Vec<RealSample>> = check.real.zip(tools).map(|(fk, tools)| {
+        points
+            .iter()
+            .zip(tools)
+            .map(|(p, &x)| RealSample {
+                x,
+                speed: instantaneous_speed(fk, &p.positions, &p.velocities),
+                hand_m: nearest_hand_distance(check.hands, x),
+            })
+            .collect()
+    });
     let mut found = Vec::new();
     for k in 0..points.len() {
         let (s_lo, s_hi) = stretch(k);
@@ -109,24 +122,30 @@ pub fn excess(
             limit,
             interpolant: speed,
         });
-        if let (Some(real), Some(tools), true) = (check.real, tools, k + 1 < points.len()) {
-            // The caps are lowered a sample either side too: the next
-            // timing's samples fall elsewhere on the path.
+        if let (Some(real), true) = (&real, k < last) {
+            let (a, b) = (&real[k], &real[k + 1]);
+            let elapsed = points[k + 1].time_from_start - points[k].time_from_start;
+            let speed = (distance(a.x, b.x) / elapsed).max(a.speed).max(b.speed);
             let span = (s_lo, stretch(k + 1).1);
-            let padded = (stretch(k.saturating_sub(1)).0, stretch((k + 2).min(last)).1);
-            let (speed, limit) = real_speed(real, check, trajectory, tools, k, (&profile.s, span));
+            let limit = check
+                .rule
+                .tool_speed_cap(a.hand_m.min(b.hand_m))
+                .min(spanned_min(check.limits, &profile.s, span));
             if speed > limit * (1.0 + tolerance)
                 && worst
                     .as_ref()
                     .is_none_or(|w| speed / limit > w.speed / w.limit)
             {
-                let elapsed = points[k + 1].time_from_start - points[k].time_from_start + tau;
+                // The caps are lowered a sample either side too: the next
+                // timing's samples fall elsewhere on the path.
+                let padded = (stretch(k.saturating_sub(1)).0, stretch((k + 2).min(last)).1);
+                let interpolant = distance(at(check.tool, span.0), at(check.tool, span.1));
                 worst = Some(Excess {
                     sample: k,
                     stretch: padded,
                     speed,
                     limit,
-                    interpolant: distance(at(check.tool, span.0), at(check.tool, span.1)) / elapsed,
+                    interpolant: interpolant / (elapsed + tau),
                 });
             }
         }
@@ -135,38 +154,25 @@ pub fn excess(
     found
 }
 
-/// The real tool's fastest speed over interval `[t_k, t_{k+1}]` (mean and
-/// instantaneous at both ends) and its cap, m/s.
-fn real_speed(
-    real: &ToolPathCheck,
-    check: &ToolSpeedCheck,
-    trajectory: &JointTrajectory,
-    tools: &[[f64; 3]],
-    k: usize,
-    (grid, span): (&[f64], (f64, f64)),
-) -> (f64, f64) {
-    let (a, b) = (&trajectory.points[k], &trajectory.points[k + 1]);
-    let mean = distance(tools[k], tools[k + 1]) / (b.time_from_start - a.time_from_start);
-    let speed = [a, b]
-        .iter()
-        .map(|p| {
-            let step = |sign: f64| -> Vec<f64> {
-                p.positions
-                    .iter()
-                    .zip(&p.velocities)
-                    .map(|(q, v)| q + sign * FK_STEP_S * v)
-                    .collect()
-            };
-            distance(real.fk_of(&step(1.0)), real.fk_of(&step(-1.0))) / (2.0 * FK_STEP_S)
-        })
-        .fold(mean, f64::max);
-    let nearest = nearest_hand_distance(check.hands, tools[k])
-        .min(nearest_hand_distance(check.hands, tools[k + 1]));
-    let limit = check
-        .rule
-        .tool_speed_cap(nearest)
-        .min(spanned_min(check.limits, grid, span));
-    (speed, limit)
+/// The real tool at one sample.
+struct RealSample {
+    /// Position, metres.
+    x: [f64; 3],
+    /// Instantaneous speed `‖J(q) q̇‖`, m/s.
+    speed: f64,
+    /// Distance to the nearest hand, metres.
+    hand_m: f64,
+}
+
+/// `‖J(q) q̇‖` by a central difference of the forward kinematics along `q̇`, m/s.
+fn instantaneous_speed(fk: &ToolPathCheck, q: &[f64], q_dot: &[f64]) -> f64 {
+    let step = |sign: f64| -> Vec<f64> {
+        q.iter()
+            .zip(q_dot)
+            .map(|(q, v)| q + sign * FK_STEP_S * v)
+            .collect()
+    };
+    distance(fk.fk_of(&step(1.0)), fk.fk_of(&step(-1.0))) / (2.0 * FK_STEP_S)
 }
 
 /// The interpolant's speed at time `t` and its cap, m/s. Unfiltered: the
