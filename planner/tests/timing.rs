@@ -502,45 +502,69 @@ fn settings_deny_unknown_fields_and_fill_defaults() {
     assert_eq!(t.path_points, 300);
 }
 
-/// The path afford times through `waypoints`, as breakpoints and per-piece
-/// coefficients `[c0, c1, c2, c3]` of every joint, for the toppra script.
-fn blended_path_json(waypoints: &[Vec<f64>]) -> serde_json::Value {
+/// The path afford times through `waypoints` (or, with `points`, the
+/// tool-space interpolant on the joint path's knots and radii), as
+/// breakpoints and per-piece coefficients `[c0, c1, c2, c3]` of every
+/// coordinate, for the toppra script.
+fn blended_path_json(waypoints: &[Vec<f64>], points: Option<&[Vec<f64>]>) -> serde_json::Value {
     use afford_planner::timing::spline::{PiecewiseCubic, chord_knots, widest_radii};
     let refs: Vec<&[f64]> = waypoints.iter().map(|w| w.as_slice()).collect();
     let knots = chord_knots(&refs);
-    let path = PiecewiseCubic::blended(&refs, &knots, &widest_radii(&knots));
+    let blended: Vec<&[f64]> =
+        points.map_or(refs.clone(), |p| p.iter().map(Vec::as_slice).collect());
+    let path = PiecewiseCubic::blended(&blended, &knots, &widest_radii(&knots));
     let coefficients: Vec<Vec<[f64; 4]>> = (0..path.pieces())
         .map(|p| (0..path.dim()).map(|j| path.piece(p, j)).collect())
         .collect();
     serde_json::json!({"breakpoints": path.knots(), "coefficients": coefficients})
 }
 
-fn reference_case(waypoints: &[Vec<f64>], limits: &JointLimits, name: &str) -> serde_json::Value {
+/// One case: the path, the limits and afford's durations at five grid
+/// sizes; near hands also the tool path, the hands, the rule and the
+/// factor afford's program takes off the caps.
+fn reference_case(
+    waypoints: &[Vec<f64>],
+    limits: &JointLimits,
+    near: Option<&Proximity>,
+    name: &str,
+) -> serde_json::Value {
     let mut durations = serde_json::Map::new();
     for n in [100, 200, 300, 400, 1000] {
         let settings = TimingSettings {
             path_points: n,
             ..TimingSettings::default()
         };
-        let timing = time_parameterize(waypoints, limits, None, &settings).unwrap();
+        let timing = time_parameterize(waypoints, limits, near, &settings).unwrap();
         durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
     }
-    serde_json::json!({
+    let mut case = serde_json::json!({
         "name": name,
         "waypoints": waypoints,
         "velocity_limits": limits.velocity,
         "acceleration_limits": limits.acceleration,
-        "path": blended_path_json(waypoints),
+        "path": blended_path_json(waypoints, None),
         "afford_duration_s": durations,
-    })
+    });
+    if let Some(near) = near {
+        let settings = TimingSettings::default();
+        let tools: Vec<Vec<f64>> = near.tool_positions.iter().map(|p| p.to_vec()).collect();
+        case["tool_path"] = blended_path_json(waypoints, Some(&tools));
+        case["hands"] = serde_json::to_value(&near.hands).unwrap();
+        case["rule"] = serde_json::to_value(&near.rule).unwrap();
+        case["tool_shrink"] =
+            serde_json::json!((1.0 - settings.limit_margin) * (1.0 - settings.tool_speed_margin));
+    }
+    case
 }
 
 /// Writes a JSON case for `scripts/toppra_reference.py` (not run by default):
 /// `AFFORD_TIMING_CASE=/tmp/case.json cargo test --release -p afford-planner
 /// --test timing -- --ignored export_reference_case`. Ten seeded random
-/// 7-joint paths, then the real paths of two examples (every piece of every
+/// 7-joint paths, then the real paths of six examples (every piece of every
 /// sub-goal of sort-blue-squares and cob4-sort-blue-squares, cut where the
-/// gripper acts, with the robot's limits; position limits play no part).
+/// gripper acts, with the robot's limits; position limits play no part),
+/// four of them near hands (hand-on-route, here-pointing and their
+/// Care-O-bot twins, with the hands' tool-speed caps).
 #[test]
 #[ignore = "writes a file for the toppra comparison script"]
 fn export_reference_case() {
@@ -552,6 +576,7 @@ fn export_reference_case() {
             reference_case(
                 &random_smooth_path(&mut rng, 7, 12),
                 &limits,
+                None,
                 &format!("random {k}"),
             )
         })
@@ -559,12 +584,15 @@ fn export_reference_case() {
     for (file, model) in [
         ("sort-blue-squares", "kuka_iiwa14"),
         ("cob4-sort-blue-squares", "care_o_bot4"),
+        ("hand-on-route", "kuka_iiwa14"),
+        ("here-pointing", "kuka_iiwa14"),
+        ("cob4-hand-on-route", "care_o_bot4"),
+        ("cob4-here-pointing", "care_o_bot4"),
     ] {
         let robot = RobotModel::builtin(model).unwrap();
-        let plan = plan(
-            &load(&format!("../examples/{file}.yaml")),
-            &PlanOptions::default(),
-        );
+        let scenario = load(&format!("../examples/{file}.yaml"));
+        let hands = afford_planner::timing::trajectory::hands(&scenario);
+        let plan = plan(&scenario, &PlanOptions::default());
         for (k, sub) in plan.subgoals.iter().enumerate() {
             let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
             else {
@@ -582,12 +610,22 @@ fn export_reference_case() {
                     .unwrap()
             };
             let cuts = [0, at(taken), at(left), path.len() - 1];
+            let arm = robot.arm(arm).unwrap();
             for (m, w) in cuts.windows(2).enumerate() {
                 let mut piece = path[w[0]..=w[1]].to_vec();
                 piece.dedup();
+                let near = (!hands.is_empty()).then(|| Proximity {
+                    tool_positions: piece
+                        .iter()
+                        .map(|q| arm.fk(q).translation.vector.into())
+                        .collect(),
+                    hands: hands.clone(),
+                    rule: scenario.safety.separation.clone(),
+                });
                 cases.push(reference_case(
                     &piece,
                     &limits,
+                    near.as_ref(),
                     &format!("{file} [{k}] piece {m}"),
                 ));
             }
