@@ -339,6 +339,33 @@ fn tool_speed_near_hands_measured_by_forward_kinematics() {
     }
 }
 
+/// Lowering the caps where the real tool is over is bounded: a tool that
+/// no timing keeps within the cap (forward kinematics that jumps 5 cm
+/// between two samples next to a hand) is a `LimitViolated` status after
+/// the last round, never a trajectory.
+#[test]
+fn tool_speed_over_the_cap_after_every_round_is_refused() {
+    let (path, limits, mut proximity) = planar_case();
+    let fk = |q: &[f64]| {
+        let jump = if q[0] > 0.55 { 0.05 } else { 0.0 };
+        [q[0] + jump, q[1], 0.3]
+    };
+    proximity.tool_positions = path.iter().map(|q| fk(q)).collect();
+    let settings = TimingSettings {
+        max_tool_deviation_m: 0.1,
+        ..TimingSettings::default()
+    };
+    let timing =
+        time_parameterize_tool(&path, &limits, Some(&proximity), Some(&fk), &settings).unwrap();
+    assert!(timing.trajectory.is_none());
+    assert!(
+        matches!(&timing.status, TimingStatus::LimitViolated { violation } if violation.kind == afford_planner::timing::LimitKind::ToolSpeed),
+        "{:?}",
+        timing.status
+    );
+    assert_eq!(timing.stats.tool_speed_rounds, 4, "{:?}", timing.stats);
+}
+
 #[test]
 fn zero_crawl_speed_refuses_a_path_inside_the_protective_distance() {
     let (path, limits, mut proximity) = planar_case();

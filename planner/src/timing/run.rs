@@ -600,6 +600,12 @@ const TOOL_SPEED_ROUNDS: u32 = 4;
 /// A lowered cap lands this fraction below the measured excess.
 const LOWER_SLACK: f64 = 2e-3;
 
+/// A cut never takes the interpolant's cap below this share of the limit:
+/// a real tool more than twice as fast as the interpolant is a path whose
+/// forward kinematics and tool positions disagree, not a timing to slow
+/// down without end (the rounds then end in a `LimitViolated` status).
+const LOWEST_CUT: f64 = 0.5;
+
 /// How the hands' caps are lowered below the rule's.
 #[derive(Debug, Default)]
 struct CapShape {
@@ -613,11 +619,12 @@ struct CapShape {
 impl CapShape {
     /// Lowers each excess's stretch to the interpolant speed at which the
     /// tool meets its limit: the interpolant's speed there times
-    /// `limit / speed`, as a cap before the program's `tool_shrink`.
+    /// `limit / speed`, at least [`LOWEST_CUT`] of the limit, as a cap
+    /// before the program's `tool_shrink`.
     fn lower(&mut self, excess: &[Excess], tool_shrink: f64) {
-        self.cuts.extend(excess.iter().filter_map(|e| {
-            let cap = e.interpolant * e.limit / e.speed * (1.0 - LOWER_SLACK) / tool_shrink;
-            (cap > 0.0).then_some((e.stretch, cap))
+        self.cuts.extend(excess.iter().map(|e| {
+            let meets = e.interpolant * e.limit / e.speed * (1.0 - LOWER_SLACK);
+            (e.stretch, meets.max(LOWEST_CUT * e.limit) / tool_shrink)
         }));
     }
 
