@@ -567,7 +567,8 @@ fn time_path(
     // stretch's caps by its measured excess. A trajectory still over after
     // `TOOL_SPEED_ROUNDS` is a `LimitViolated` status, never emitted.
     let mut shape = CapShape::default();
-    for round in 0.. {
+    let mut round = 0;
+    loop {
         let (mut timing, excess) = finish(&inputs, solve_refined(&inputs, &shape)?)?;
         timing.stats.tool_speed_rounds = round;
         let over = matches!(
@@ -589,8 +590,8 @@ fn time_path(
             }
             _ => shape.lower(&excess, program.tool_shrink),
         }
+        round += 1;
     }
-    unreachable!("the loop returns by round TOOL_SPEED_ROUNDS")
 }
 
 /// Most times a path is timed again with its caps lowered where the tool
