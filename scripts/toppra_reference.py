@@ -26,6 +26,16 @@ them on whole segments, so afford's durations are expected to be slightly
 longer, never shorter, than the fine-grid reference. The column "natural"
 is toppra's optimum on a natural cubic spline through the same waypoints
 (the interpolant afford used before), to show what the path change costs.
+
+Near hands (cases with "tool_path" and "hands": every piece of the real
+paths of four examples with hands) toppra also bounds the tool speed as
+afford's program does: the speed of the tool-space interpolant (the tool
+positions blended with the joint path's knots and radii) within the
+speed-and-separation cap at its distance from the nearest hand sphere
+(planner/src/timing/separation.rs, reimplemented below), less afford's
+margins on the cap. afford times these pieces without the arm's forward
+kinematics (the interpolant only: the real tool's check, which can only
+lower the caps, is not part of the comparison).
 """
 
 import argparse
@@ -69,11 +79,42 @@ class PiecewisePath(toppra.interpolator.AbstractGeometricPath):
         return self.breakpoints, self.poly(self.breakpoints)
 
 
-def toppra_duration(path, vlim, alim, gridpoints):
+def tool_speed_cap(rule, d):
+    """The tool-speed cap (m/s) at hand distance d (m): separation.rs's rule."""
+    v_h = rule["human_speed_far_m_s"] if d > rule["human_speed_far_beyond_m"] else rule["human_speed_m_s"]
+    a_s, t_r = rule["stop_deceleration_m_s2"], rule["reaction_time_s"]
+    constant = rule["intrusion_distance_m"] + rule["sensing_uncertainty_m"] + rule["robot_uncertainty_m"]
+    qa, qb, qc = 1.0 / (2.0 * a_s), t_r + v_h / a_s, v_h * t_r + constant - d
+    v = 0.0 if qc >= 0.0 else 2.0 * qc / (-qb - np.sqrt(qb * qb - 4.0 * qa * qc))
+    if d <= rule["reduced_speed_distance_m"]:
+        v = min(v, rule["reduced_speed_m_s"])
+    return max(v, rule["min_tool_speed_m_s"])
+
+
+class ToolSpeedConstraint(toppra.constraint.LinearConstraint):
+    """||p'(s)||^2 sdot^2 <= (shrink * cap(d(p(s))))^2 at every grid point."""
+
+    def __init__(self, tool, hands, rule, shrink, dof):
+        super().__init__()
+        self.tool, self.hands, self.rule, self.shrink, self.dof = tool, hands, rule, shrink, dof
+
+    def compute_constraint_params(self, path, gridpoints):
+        positions, tangents = self.tool(gridpoints), self.tool(gridpoints, 1)
+        xbound = np.zeros((len(gridpoints), 2))
+        for i, (x, dx) in enumerate(zip(positions, tangents)):
+            d = min(max(np.linalg.norm(x - np.array(h["centre"])) - h["radius"], 0.0) for h in self.hands)
+            cap = self.shrink * tool_speed_cap(self.rule, d)
+            xbound[i] = [0.0, cap * cap / max(float(dx @ dx), 1e-300)]
+        return None, None, None, None, None, None, xbound
+
+
+def toppra_duration(path, vlim, alim, gridpoints, tool_speed=None):
     constraints = [
         toppra.constraint.JointVelocityConstraint(np.vstack([-vlim, vlim]).T),
         toppra.constraint.JointAccelerationConstraint(np.vstack([-alim, alim]).T),
     ]
+    if tool_speed is not None:
+        constraints.append(tool_speed)
     start, end = path.path_interval
     grid = np.linspace(start, end, gridpoints + 1)
     instance = toppra.algorithm.TOPPRA(
@@ -106,11 +147,16 @@ def main():
         alim = np.array(case["acceleration_limits"], dtype=float)
         ours = case["afford_duration_s"]
         natural_path = toppra.SplineInterpolator(chord_knots(waypoints), waypoints, bc_type="natural")
-        natural = toppra_duration(natural_path, vlim, alim, args.fine)
+        # Near hands the natural spline has no tool path to cap: not compared.
+        natural = np.nan if "tool_path" in case else toppra_duration(natural_path, vlim, alim, args.fine)
         # Cases written before the blended path (no "path") timed the natural spline.
+        tool_speed = None
+        if "tool_path" in case:
+            tool = PiecewisePath(case["tool_path"]["breakpoints"], case["tool_path"]["coefficients"])
+            tool_speed = ToolSpeedConstraint(tool, case["hands"], case["rule"], case["tool_shrink"], len(vlim))
         if "path" in case:
             path = PiecewisePath(case["path"]["breakpoints"], case["path"]["coefficients"])
-            fine = toppra_duration(path, vlim, alim, args.fine)
+            fine = toppra_duration(path, vlim, alim, args.fine, tool_speed)
         else:
             fine = natural
         diff = 100.0 * (ours[args.segments] - fine) / fine

@@ -204,9 +204,8 @@ fn planar_case() -> (Vec<Vec<f64>>, JointLimits, Proximity) {
 }
 
 /// Near a hand the time is set by the tool-speed caps, constant per
-/// segment at the segment's least distance: refinement near hands (the
-/// reference's, off by default) must cut where the caps leave the
-/// profile room (near-hand sub-goals stayed 1.7–3.5 % above the optimum
+/// segment at the segment's least distance: refinement near hands must
+/// cut where the caps leave the profile room (near-hand sub-goals stayed 1.7–3.5 % above the optimum
 /// when only the formula's graded caps were cut).
 #[test]
 fn near_hand_segments_refined_where_the_caps_leave_room() {
@@ -217,10 +216,7 @@ fn near_hand_segments_refined_where_the_caps_leave_room() {
             .duration()
             .unwrap()
     };
-    let coarse = TimingSettings {
-        refine_near_hands: true,
-        ..TimingSettings::default()
-    };
+    let coarse = TimingSettings::default();
     let reference = afford_planner::timing::examples::reference_settings(&coarse)
         .iter()
         .map(duration)
@@ -280,6 +276,94 @@ fn hand_proximity_slows_the_tool_to_reduced_speed() {
         .map(|p| p.velocities[0].hypot(p.velocities[1]))
         .fold(0.0, f64::max);
     assert!(free_top > 0.25);
+}
+
+/// The program bounds the speed of the tool-space interpolant (chords
+/// between the waypoints' tools); the real tool follows forward kinematics.
+/// Here the tool swings on a 0.2 m arc round a hand, waypoints 1 rad apart:
+/// the arc is 4 % longer than its chords, more than `tool_speed_margin`,
+/// so a profile on the 0.05 m/s crawl cap moved the real tool at about
+/// 0.051 m/s (Care-O-bot scenes 703 and 811 of the safety campaign: 0.0505
+/// and 0.0502). Every sample interval's real tool speed (forward
+/// kinematics of the samples, as the independent check measures it) must
+/// be within the rule's cap, with and without the jerk filter.
+#[test]
+fn tool_speed_near_hands_measured_by_forward_kinematics() {
+    let radius = 0.2;
+    let fk = move |q: &[f64]| [radius * q[0].cos(), radius * q[0].sin(), 0.3 + 0.1 * q[1]];
+    let path: Vec<Vec<f64>> = (0..=3).map(|k| vec![k as f64, 0.0]).collect();
+    let hand = Hand {
+        centre: [0.0, 0.0, 0.3],
+        radius: 0.05,
+    };
+    let proximity = Proximity {
+        tool_positions: path.iter().map(|q| fk(q)).collect(),
+        hands: vec![hand],
+        rule: SeparationSettings::default(),
+    };
+    let rule = &proximity.rule;
+    for jerk in [Vec::new(), vec![50.0, 50.0]] {
+        let limits = JointLimits {
+            lower: vec![-10.0; 2],
+            upper: vec![10.0; 2],
+            velocity: vec![1.5, 1.5],
+            acceleration: vec![4.0, 4.0],
+            jerk,
+        };
+        let timing = time_parameterize_tool(
+            &path,
+            &limits,
+            Some(&proximity),
+            Some(&fk),
+            &TimingSettings::default(),
+        )
+        .unwrap();
+        let trajectory = solved(&timing);
+        let mut fastest = 0.0_f64;
+        for w in trajectory.points.windows(2) {
+            let (a, b) = (fk(&w[0].positions), fk(&w[1].positions));
+            let speed =
+                point_segment_distance(a, b, b) / (w[1].time_from_start - w[0].time_from_start);
+            let cap = rule.tool_speed_cap(hand.distance(a).min(hand.distance(b)));
+            assert!(
+                speed <= cap * (1.0 + 1e-6),
+                "the real tool at {speed} m/s against a cap of {cap} m/s, t = {} s",
+                w[0].time_from_start
+            );
+            fastest = fastest.max(speed / cap);
+        }
+        // Within the cap, not far below it: the caps were lowered where the
+        // real tool was over, not everywhere.
+        assert!(fastest > 0.99, "at most {fastest} of the cap");
+        assert!(timing.stats.tool_speed_rounds >= 1, "{:?}", timing.stats);
+    }
+}
+
+/// Lowering the caps where the real tool is over is bounded: a tool that
+/// no timing keeps within the cap (forward kinematics that jumps 5 cm
+/// between two samples next to a hand) is a `LimitViolated` status after
+/// the last round, never a trajectory.
+#[test]
+fn tool_speed_over_the_cap_after_every_round_is_refused() {
+    let (path, limits, mut proximity) = planar_case();
+    let fk = |q: &[f64]| {
+        let jump = if q[0] > 0.55 { 0.05 } else { 0.0 };
+        [q[0] + jump, q[1], 0.3]
+    };
+    proximity.tool_positions = path.iter().map(|q| fk(q)).collect();
+    let settings = TimingSettings {
+        max_tool_deviation_m: 0.1,
+        ..TimingSettings::default()
+    };
+    let timing =
+        time_parameterize_tool(&path, &limits, Some(&proximity), Some(&fk), &settings).unwrap();
+    assert!(timing.trajectory.is_none());
+    assert!(
+        matches!(&timing.status, TimingStatus::LimitViolated { violation } if violation.kind == afford_planner::timing::LimitKind::ToolSpeed),
+        "{:?}",
+        timing.status
+    );
+    assert_eq!(timing.stats.tool_speed_rounds, 4, "{:?}", timing.stats);
 }
 
 #[test]
@@ -445,45 +529,69 @@ fn settings_deny_unknown_fields_and_fill_defaults() {
     assert_eq!(t.path_points, 300);
 }
 
-/// The path afford times through `waypoints`, as breakpoints and per-piece
-/// coefficients `[c0, c1, c2, c3]` of every joint, for the toppra script.
-fn blended_path_json(waypoints: &[Vec<f64>]) -> serde_json::Value {
+/// The path afford times through `waypoints` (or, with `points`, the
+/// tool-space interpolant on the joint path's knots and radii), as
+/// breakpoints and per-piece coefficients `[c0, c1, c2, c3]` of every
+/// coordinate, for the toppra script.
+fn blended_path_json(waypoints: &[Vec<f64>], points: Option<&[Vec<f64>]>) -> serde_json::Value {
     use afford_planner::timing::spline::{PiecewiseCubic, chord_knots, widest_radii};
     let refs: Vec<&[f64]> = waypoints.iter().map(|w| w.as_slice()).collect();
     let knots = chord_knots(&refs);
-    let path = PiecewiseCubic::blended(&refs, &knots, &widest_radii(&knots));
+    let blended: Vec<&[f64]> =
+        points.map_or(refs.clone(), |p| p.iter().map(Vec::as_slice).collect());
+    let path = PiecewiseCubic::blended(&blended, &knots, &widest_radii(&knots));
     let coefficients: Vec<Vec<[f64; 4]>> = (0..path.pieces())
         .map(|p| (0..path.dim()).map(|j| path.piece(p, j)).collect())
         .collect();
     serde_json::json!({"breakpoints": path.knots(), "coefficients": coefficients})
 }
 
-fn reference_case(waypoints: &[Vec<f64>], limits: &JointLimits, name: &str) -> serde_json::Value {
+/// One case: the path, the limits and afford's durations at five grid
+/// sizes; near hands also the tool path, the hands, the rule and the
+/// factor afford's program takes off the caps.
+fn reference_case(
+    waypoints: &[Vec<f64>],
+    limits: &JointLimits,
+    near: Option<&Proximity>,
+    name: &str,
+) -> serde_json::Value {
     let mut durations = serde_json::Map::new();
     for n in [100, 200, 300, 400, 1000] {
         let settings = TimingSettings {
             path_points: n,
             ..TimingSettings::default()
         };
-        let timing = time_parameterize(waypoints, limits, None, &settings).unwrap();
+        let timing = time_parameterize(waypoints, limits, near, &settings).unwrap();
         durations.insert(n.to_string(), serde_json::json!(timing.duration().unwrap()));
     }
-    serde_json::json!({
+    let mut case = serde_json::json!({
         "name": name,
         "waypoints": waypoints,
         "velocity_limits": limits.velocity,
         "acceleration_limits": limits.acceleration,
-        "path": blended_path_json(waypoints),
+        "path": blended_path_json(waypoints, None),
         "afford_duration_s": durations,
-    })
+    });
+    if let Some(near) = near {
+        let settings = TimingSettings::default();
+        let tools: Vec<Vec<f64>> = near.tool_positions.iter().map(|p| p.to_vec()).collect();
+        case["tool_path"] = blended_path_json(waypoints, Some(&tools));
+        case["hands"] = serde_json::to_value(&near.hands).unwrap();
+        case["rule"] = serde_json::to_value(&near.rule).unwrap();
+        case["tool_shrink"] =
+            serde_json::json!((1.0 - settings.limit_margin) * (1.0 - settings.tool_speed_margin));
+    }
+    case
 }
 
 /// Writes a JSON case for `scripts/toppra_reference.py` (not run by default):
 /// `AFFORD_TIMING_CASE=/tmp/case.json cargo test --release -p afford-planner
 /// --test timing -- --ignored export_reference_case`. Ten seeded random
-/// 7-joint paths, then the real paths of two examples (every piece of every
+/// 7-joint paths, then the real paths of six examples (every piece of every
 /// sub-goal of sort-blue-squares and cob4-sort-blue-squares, cut where the
-/// gripper acts, with the robot's limits; position limits play no part).
+/// gripper acts, with the robot's limits; position limits play no part),
+/// four of them near hands (hand-on-route, here-pointing and their
+/// Care-O-bot twins, with the hands' tool-speed caps).
 #[test]
 #[ignore = "writes a file for the toppra comparison script"]
 fn export_reference_case() {
@@ -495,6 +603,7 @@ fn export_reference_case() {
             reference_case(
                 &random_smooth_path(&mut rng, 7, 12),
                 &limits,
+                None,
                 &format!("random {k}"),
             )
         })
@@ -502,12 +611,15 @@ fn export_reference_case() {
     for (file, model) in [
         ("sort-blue-squares", "kuka_iiwa14"),
         ("cob4-sort-blue-squares", "care_o_bot4"),
+        ("hand-on-route", "kuka_iiwa14"),
+        ("here-pointing", "kuka_iiwa14"),
+        ("cob4-hand-on-route", "care_o_bot4"),
+        ("cob4-here-pointing", "care_o_bot4"),
     ] {
         let robot = RobotModel::builtin(model).unwrap();
-        let plan = plan(
-            &load(&format!("../examples/{file}.yaml")),
-            &PlanOptions::default(),
-        );
+        let scenario = load(&format!("../examples/{file}.yaml"));
+        let hands = afford_planner::timing::trajectory::hands(&scenario);
+        let plan = plan(&scenario, &PlanOptions::default());
         for (k, sub) in plan.subgoals.iter().enumerate() {
             let (Some(t), Some(path), Some(arm)) = (&sub.trajectory, &sub.joint_path, &sub.arm)
             else {
@@ -525,12 +637,22 @@ fn export_reference_case() {
                     .unwrap()
             };
             let cuts = [0, at(taken), at(left), path.len() - 1];
+            let arm = robot.arm(arm).unwrap();
             for (m, w) in cuts.windows(2).enumerate() {
                 let mut piece = path[w[0]..=w[1]].to_vec();
                 piece.dedup();
+                let near = (!hands.is_empty()).then(|| Proximity {
+                    tool_positions: piece
+                        .iter()
+                        .map(|q| arm.fk(q).translation.vector.into())
+                        .collect(),
+                    hands: hands.clone(),
+                    rule: scenario.safety.separation.clone(),
+                });
                 cases.push(reference_case(
                     &piece,
                     &limits,
+                    near.as_ref(),
                     &format!("{file} [{k}] piece {m}"),
                 ));
             }

@@ -196,7 +196,6 @@ pub fn reference_settings(settings: &TimingSettings) -> [TimingSettings; 2] {
         refine_rounds: 12,
         refine_tolerance: 1e-6,
         refine_looseness: 0.0,
-        refine_near_hands: true,
         ..settings.clone()
     };
     [
@@ -361,15 +360,16 @@ pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
 mod tests {
     use super::*;
 
-    /// Issue 9: every sub-goal of every example without hands within 1 %
-    /// of the converged time-optimal duration on its own path under its
-    /// velocity and acceleration limits (timed without the jerk limits;
+    /// Issue 9: every sub-goal of every example within 1 % of the
+    /// converged time-optimal duration on its own path under its velocity,
+    /// acceleration and hand-speed limits (timed without the jerk limits;
     /// their cost is reported apart). Five Care-O-bot sub-goals were
-    /// 1.010–1.017 with the grid unrefined. Near hands the default timing
-    /// is not refined (see `TimingSettings::refine_near_hands`). Never
-    /// below the reference: it must be the tighter bound.
+    /// 1.010–1.017 with the grid unrefined; the six near hands were
+    /// 1.0105–1.0321 while the grid was not refined near hands (session 6:
+    /// the real tool's speed was not checked). Never below the reference:
+    /// it must be the tighter bound.
     #[test]
-    fn example_subgoals_without_hands_within_one_percent_of_the_converged_optimum() {
+    fn example_subgoals_within_one_percent_of_the_converged_optimum() {
         let figures = measure_examples(&PlanOptions::default());
         assert!(figures.len() >= 40, "{} sub-goals", figures.len());
         let with_hands = |name: &str| {
@@ -379,22 +379,16 @@ mod tests {
                 .and_then(|(n, text)| parse(text, Format::Yaml, n).ok())
                 .is_some_and(|s| !s.hands.is_empty())
         };
-        let mut without = 0;
         for f in &figures {
-            let most = if with_hands(&f.example) {
-                f64::INFINITY
-            } else {
-                without += 1;
-                1.01
-            };
             assert!(
-                (1.0 - 1e-9..=most).contains(&f.ratio_without_jerk),
+                (1.0 - 1e-9..=1.01).contains(&f.ratio_without_jerk),
                 "{} [{}]: {} against the reference",
                 f.example,
                 f.subgoal,
                 f.ratio_without_jerk
             );
         }
-        assert!(without >= 30, "{without} sub-goals without hands");
+        let near = figures.iter().filter(|f| with_hands(&f.example)).count();
+        assert!(near >= 6, "{near} sub-goals near hands");
     }
 }

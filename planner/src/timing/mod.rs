@@ -44,9 +44,11 @@
 //! constraint on the whole segment, not just at grid points; that, and a
 //! relative margin of [`TimingSettings::limit_margin`] on every limit, is why
 //! every sample at any rate is within the limits. Each sample is still
-//! checked ([`sample::verify`]: positions, velocities, accelerations, tool
-//! speed near hands, the tool's distance from the planned tool path) and a
-//! violation is a status, never a trajectory.
+//! checked ([`sample::verify`]: positions, velocities, accelerations, the
+//! tool's distance from the planned tool path; [`tool_speed`]: near hands
+//! the tool's speed, of the interpolant and of the real tool by forward
+//! kinematics, the caps lowered and the path timed again where it is over)
+//! and a violation is a status, never a trajectory.
 //!
 //! Speed scale `k ∈ (0, 1]` multiplies velocity limits by `k` and
 //! acceleration limits by `k²`: the result is the time-optimal trajectory
@@ -86,6 +88,7 @@ pub mod sample;
 pub mod separation;
 pub mod spline;
 pub mod taut;
+pub mod tool_speed;
 pub mod topp;
 pub mod trajectory;
 

@@ -11,6 +11,7 @@ use super::sample::{self, JointTrajectory, LimitKind, LimitViolation, SpeedProfi
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
 use super::taut;
+use super::tool_speed::{self, Excess, ToolSpeedCheck};
 use super::topp::{self, ProfileSolution, Program, ProgramSettings, SegmentRows, SolverOutcome};
 
 /// Per-joint limits of one arm.
@@ -73,13 +74,6 @@ pub struct TimingSettings {
     /// parts (2 to 8), 2e-3. 0 cuts every bound segment whose rows may be
     /// first-order conservative into 4 (one of the reference's solves).
     pub refine_looseness: f64,
-    /// Refine pieces timed near hands too, false. Off by default: the
-    /// program bounds the speed of the tool-space interpolant, and where a
-    /// refined profile sits on the crawl cap the real tool (forward
-    /// kinematics) ran up to 1 % over it (0.0505 m/s against 0.05, two
-    /// sub-goals of the safety campaign), more than `tool_speed_margin`
-    /// covers. The reference refines them.
-    pub refine_near_hands: bool,
     /// Tool budget, metres, for pulling the joints taut ([`taut`](super::taut)),
     /// 0.0015: each smoothed waypoint's tool within this of the planned tool
     /// path (the corner blends add up to half of `max_tool_deviation_m`).
@@ -109,10 +103,13 @@ pub struct TimingSettings {
     /// checked), 0.005. Corner blends are sized for half of it; checked on
     /// every sample when the arm's forward kinematics is given.
     pub max_tool_deviation_m: f64,
-    /// Relative margin taken off every tool-speed cap near a hand, 0.02. The
-    /// program bounds the speed of the tool-space interpolant; the tool
-    /// really follows forward kinematics of the joint path, measured up to
-    /// 0.4 % faster on the examples (0.0502 against a 0.05 m/s cap).
+    /// Relative margin taken off every tool-speed cap near a hand inside
+    /// the program, 0.02. The program bounds the speed of the tool-space
+    /// interpolant; the tool really follows forward kinematics of the joint
+    /// path, measured up to 3 % faster where a profile sits on a crawl cap.
+    /// With the arm's forward kinematics every sample's real tool speed is
+    /// checked against the rule's cap and the caps are lowered where it is
+    /// over ([`tool_speed`](super::tool_speed)); the margin makes that rare.
     pub tool_speed_margin: f64,
 }
 
@@ -123,7 +120,6 @@ impl Default for TimingSettings {
             refine_rounds: 1,
             refine_tolerance: 1e-3,
             refine_looseness: 2e-3,
-            refine_near_hands: false,
             taut_tool_budget_m: 0.0015,
             rate_hz: 100.0,
             speed_scale: 1.0,
@@ -367,6 +363,9 @@ pub struct SolveStats {
     /// Width of the jerk filter, seconds: the motion lasts this much
     /// longer than the time-optimal profile (0 without jerk limits).
     pub jerk_filter_s: f64,
+    /// Times the path was timed again with the hands' caps lowered where
+    /// the tool was over one (0 without hands or when none was).
+    pub tool_speed_rounds: u32,
     /// Whole stage (spline to checked samples), seconds.
     pub total_time_s: f64,
 }
@@ -560,26 +559,108 @@ fn time_path(
         planned: path.planned,
         started,
     };
-    let timing = finish(&inputs, solve_refined(&inputs, 0.0)?)?;
-    // Averaging mixes the speeds of a stretch of path: where a hand's cap
-    // drops within that stretch, every cap is lowered to the smallest within
-    // the distance the filter spans and the path is timed again.
-    let widen = match (&timing.status, &timing.profile) {
-        (
+    // Where the tool is over a hand's cap at some sample (the jerk filter
+    // mixing the speeds of a stretch of path, or the real tool faster than
+    // the interpolant the program bounds), the caps there are lowered and
+    // the path is timed again: first, with the filter, every cap to the
+    // smallest within the distance the filter spans; then each over-cap
+    // stretch's caps by its measured excess. A trajectory still over after
+    // `TOOL_SPEED_ROUNDS` is a `LimitViolated` status, never emitted.
+    let mut shape = CapShape::default();
+    let mut round = 0;
+    loop {
+        let (mut timing, excess) = finish(&inputs, solve_refined(&inputs, &shape)?)?;
+        timing.stats.tool_speed_rounds = round;
+        let over = matches!(
+            timing.status,
             TimingStatus::LimitViolated {
-                violation:
-                    LimitViolation {
-                        kind: LimitKind::ToolSpeed,
-                        ..
-                    },
-            },
-            Some(profile),
-        ) if timing.stats.jerk_filter_s > 0.0 => {
-            timing.stats.jerk_filter_s * profile.s_dot.iter().copied().fold(0.0, f64::max)
+                violation: LimitViolation {
+                    kind: LimitKind::ToolSpeed,
+                    ..
+                },
+            }
+        );
+        if !over || excess.is_empty() || round == TOOL_SPEED_ROUNDS {
+            return Ok(timing);
         }
-        _ => return Ok(timing),
-    };
-    finish(&inputs, solve_refined(&inputs, widen)?)
+        match &timing.profile {
+            Some(profile) if timing.stats.jerk_filter_s > 0.0 && shape.widen == 0.0 => {
+                shape.widen =
+                    timing.stats.jerk_filter_s * profile.s_dot.iter().copied().fold(0.0, f64::max);
+            }
+            _ => shape.lower(&excess, program.tool_shrink),
+        }
+        round += 1;
+    }
+}
+
+/// Most times a path is timed again with its caps lowered where the tool
+/// was over a hand's cap (see [`time_path`]).
+const TOOL_SPEED_ROUNDS: u32 = 4;
+
+/// A lowered cap lands this fraction below the measured excess.
+const LOWER_SLACK: f64 = 2e-3;
+
+/// A cut never takes the interpolant's cap below this share of the limit:
+/// a real tool more than twice as fast as the interpolant is a path whose
+/// forward kinematics and tool positions disagree, not a timing to slow
+/// down without end (the rounds then end in a `LimitViolated` status).
+const LOWEST_CUT: f64 = 0.5;
+
+/// How the hands' caps are lowered below the rule's.
+#[derive(Debug, Default)]
+struct CapShape {
+    /// Every segment's cap to the smallest within this path length, 0: none.
+    widen: f64,
+    /// At most this cap, m/s, on the segments the stretch `[s_lo, s_hi]`
+    /// touches.
+    cuts: Vec<((f64, f64), f64)>,
+}
+
+impl CapShape {
+    /// Lowers each excess's stretch to the interpolant speed at which the
+    /// tool meets its limit: the interpolant's speed there times
+    /// `limit / speed`, at least [`LOWEST_CUT`] of the limit, as a cap
+    /// before the program's `tool_shrink`.
+    fn lower(&mut self, excess: &[Excess], tool_shrink: f64) {
+        self.cuts.extend(excess.iter().map(|e| {
+            let meets = e.interpolant * e.limit / e.speed * (1.0 - LOWER_SLACK);
+            (e.stretch, meets.max(LOWEST_CUT * e.limit) / tool_shrink)
+        }));
+    }
+
+    /// Applies the cuts to `caps`, one per segment of `grid`.
+    fn cut(&self, grid: &PathGrid, caps: &mut [f64]) {
+        for &(stretch, most) in &self.cuts {
+            for cap in &mut caps[touched(grid, stretch)] {
+                *cap = cap.min(most);
+            }
+        }
+    }
+
+    /// `grid` with each segment a cut touches split into parts about as
+    /// long as the cut's stretch (at most [`MOST_PARTS`]), so that a cut
+    /// slows no more of the path than it must.
+    fn split(&self, grid: PathGrid) -> PathGrid {
+        if self.cuts.is_empty() {
+            return grid;
+        }
+        let mut parts = vec![1; grid.segments()];
+        for &((lo, hi), _) in &self.cuts {
+            for i in touched(&grid, (lo, hi)) {
+                let wanted = (grid.step(i) / (hi - lo).max(f64::MIN_POSITIVE)).ceil();
+                parts[i] = parts[i].max(wanted.min(MOST_PARTS as f64) as usize);
+            }
+        }
+        grid.split(|i| parts[i])
+    }
+}
+
+/// The segments of `grid` that the stretch `[lo, hi]` touches.
+fn touched(grid: &PathGrid, (lo, hi): (f64, f64)) -> std::ops::Range<usize> {
+    let from = grid.s.partition_point(|&s| s < lo).saturating_sub(1);
+    let to = grid.s.partition_point(|&s| s <= hi).min(grid.segments());
+    from..to.max(from)
 }
 
 /// What [`solve_refined`] and [`finish`] share.
@@ -596,9 +677,9 @@ struct Inputs<'a> {
 }
 
 /// The program on the first grid, then refined where a constraint binds
-/// (`settings.refine_rounds`); the hands' caps lowered to the smallest
-/// within `widen` of each segment (path length). Also the rounds run.
-fn solve_refined(inputs: &Inputs, widen: f64) -> Result<(Solved, u32), TimingError> {
+/// (`settings.refine_rounds`); the hands' caps lowered as `shape` says.
+/// Also the rounds run.
+fn solve_refined(inputs: &Inputs, shape: &CapShape) -> Result<(Solved, u32), TimingError> {
     let Inputs {
         spline,
         program,
@@ -608,25 +689,21 @@ fn solve_refined(inputs: &Inputs, widen: f64) -> Result<(Solved, u32), TimingErr
     } = *inputs;
     let mut solved = solve_on_grid(
         spline,
-        PathGrid::new(spline, settings.path_points),
+        shape.split(PathGrid::new(spline, settings.path_points)),
         program,
         tool,
         settings,
-        widen,
+        shape,
     )?;
     let mut rounds = 0;
     let most = settings.path_points.max(solved.grid.segments()) * MAX_REFINED_GROWTH;
-    let allowed = match tool.is_some() && !settings.refine_near_hands {
-        true => 0,
-        false => settings.refine_rounds,
-    };
-    while rounds < allowed && solved.usable() && solved.grid.segments() < most {
+    while rounds < settings.refine_rounds && solved.usable() && solved.grid.segments() < most {
         let parts = solved.refinable(inputs);
         if parts.iter().all(|&p| p <= 1) {
             break;
         }
         let finer = solved.grid.split(|i| parts[i]);
-        let next = solve_on_grid(spline, finer, program, tool, settings, widen)?;
+        let next = solve_on_grid(spline, finer, program, tool, settings, shape)?;
         rounds += 1;
         if !next.usable() {
             break;
@@ -640,8 +717,12 @@ fn solve_refined(inputs: &Inputs, widen: f64) -> Result<(Solved, u32), TimingErr
     Ok((solved, rounds))
 }
 
-/// Samples the solved profile through the jerk filter and checks every sample.
-fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, TimingError> {
+/// Samples the solved profile through the jerk filter and checks every
+/// sample; also every sample interval where the tool is over a hand's cap.
+fn finish(
+    inputs: &Inputs,
+    (solved, rounds): (Solved, u32),
+) -> Result<(Timing, Vec<Excess>), TimingError> {
     let Inputs {
         spline,
         program,
@@ -669,6 +750,7 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
         solve_time_s: solution.solve_time_s,
         refinements: rounds,
         jerk_filter_s: 0.0,
+        tool_speed_rounds: 0,
         total_time_s: 0.0,
     };
     let separation = tool.as_ref().map(|(_, t)| t.summary.clone());
@@ -678,13 +760,14 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
             SolverOutcome::Solved | SolverOutcome::AlmostSolved => SolverOutcome::NumericalError,
             other => other,
         };
-        return Ok(Timing {
+        let timing = Timing {
             status: TimingStatus::SolverStopped { outcome },
             trajectory: None,
             profile: None,
             stats,
             separation,
-        });
+        };
+        return Ok((timing, Vec::new()));
     }
 
     let profile = SpeedProfile::new(&grid, &solution.b);
@@ -722,51 +805,80 @@ fn finish(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Result<Timing, Ti
     if widest > narrow {
         widths.push(widest);
     }
-    // Every sample's tool-path speed within the caps the program kept
-    // (`tool_speed_margin` below the rule's): the margin is for the real
-    // tool's speed, not for the averaging.
+    // Every sample's interpolant speed within the caps the program kept
+    // (`tool_speed_margin` below the rule's: the margin is for the real
+    // tool's speed, not for the averaging), the real tool's within the
+    // rule's.
     let kept_caps: Option<Vec<f64>> = tool
         .as_ref()
         .map(|(_, t)| t.limits.iter().map(|c| c * program.tool_shrink).collect());
+    let speed_check = tool
+        .as_ref()
+        .zip(kept_caps.as_deref())
+        .zip(inputs.tool)
+        .map(|(((spline, caps), kept), (_, proximity))| ToolSpeedCheck {
+            tool: spline,
+            kept,
+            limits: &caps.limits,
+            hands: &proximity.hands,
+            rule: &proximity.rule,
+            real: planned,
+        });
     let mut outcome = None;
     for tau in widths {
         let motion = jerk::Filtered::new(spline, &profile, tau);
         let trajectory = sample::sample(&motion, settings.rate_hz, ends);
-        let check = sample::verify(
-            &trajectory,
-            &sample_limits,
-            &sample::PathChecks {
-                path: spline,
-                profile: &profile,
-                motion: &motion,
-                tool_speed: tool
-                    .as_ref()
-                    .zip(kept_caps.as_deref())
-                    .map(|((spline, _), caps)| (*spline, caps)),
-                tool_path: planned,
-            },
-        );
+        let tools: Option<Vec<[f64; 3]>> = planned.map(|planned| {
+            trajectory
+                .points
+                .iter()
+                .map(|p| planned.fk_of(&p.positions))
+                .collect()
+        });
+        let excess = speed_check.as_ref().map_or_else(Vec::new, |c| {
+            tool_speed::excess(
+                &trajectory,
+                &profile,
+                &motion,
+                c,
+                tools.as_deref(),
+                settings.tolerance,
+            )
+        });
+        let check = match excess.first() {
+            Some(over) => Err(over.violation()),
+            None => sample::verify(
+                &trajectory,
+                &sample_limits,
+                &sample::PathChecks {
+                    path: spline,
+                    motion: &motion,
+                    tool_path: planned.zip(tools.as_deref()),
+                },
+            ),
+        };
         stats.jerk_filter_s = tau;
         let passed = check.is_ok();
-        outcome = Some((check, trajectory));
+        outcome = Some((check, trajectory, excess));
         if passed {
             break;
         }
     }
-    let (check, trajectory) = outcome.expect("at least one filter width is tried");
+    let (check, trajectory, excess) = outcome.expect("at least one filter width is tried");
     debug_assert_eq!(trajectory.points[0].positions.len(), limits.velocity.len());
     stats.total_time_s = started.elapsed().as_secs_f64();
     let (status, trajectory) = match check {
         Ok(()) => (TimingStatus::Solved, Some(trajectory)),
         Err(violation) => (TimingStatus::LimitViolated { violation }, None),
     };
-    Ok(Timing {
+    let timing = Timing {
         status,
         trajectory,
         profile: Some(profile),
         stats,
         separation,
-    })
+    };
+    Ok((timing, excess))
 }
 
 fn validate_input(
@@ -880,14 +992,14 @@ fn validate_input(
     Ok(())
 }
 
-/// The cap of every segment of `grid` (m/s) and the summary. A segment's
-/// distance is the smaller end-point distance less half its chord (a lower
-/// bound along a straight chord).
+/// The cap of every segment of `grid` (m/s), lowered as `shape` says, and
+/// the summary. A segment's distance is the smaller end-point distance less
+/// half its chord (a lower bound along a straight chord).
 fn tool_caps(
     proximity: &Proximity,
     tool: &PiecewiseCubic,
     grid: &PathGrid,
-    widen: f64,
+    shape: &CapShape,
 ) -> Result<ToolCaps, TimingError> {
     let rule = &proximity.rule;
     let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
@@ -939,6 +1051,7 @@ fn tool_caps(
         rises.push(rule.tool_speed_cap(farthest) > cap);
     }
     let limits = caps.clone();
+    let widen = shape.widen;
     if widen > 0.0 {
         for (i, cap) in caps.iter_mut().enumerate() {
             let from = grid
@@ -952,6 +1065,7 @@ fn tool_caps(
                 .fold(*cap, f64::min);
         }
     }
+    shape.cut(grid, &mut caps);
     Ok(ToolCaps {
         caps,
         limits,
@@ -1124,10 +1238,10 @@ fn solve_on_grid(
     limits: &ProgramLimits,
     tool: Option<(&PiecewiseCubic, &Proximity)>,
     settings: &TimingSettings,
-    widen: f64,
+    shape: &CapShape,
 ) -> Result<Solved, TimingError> {
     let caps = tool
-        .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, widen))
+        .map(|(tool, proximity)| tool_caps(proximity, tool, &grid, shape))
         .transpose()?;
     let caps_sq: Option<Vec<f64>> = caps.as_ref().map(|t| {
         t.caps
@@ -1182,6 +1296,7 @@ fn at_rest(q: &[f64], started: Instant) -> Timing {
             solve_time_s: 0.0,
             refinements: 0,
             jerk_filter_s: 0.0,
+            tool_speed_rounds: 0,
             total_time_s: started.elapsed().as_secs_f64(),
         },
         separation: None,

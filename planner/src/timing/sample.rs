@@ -174,19 +174,17 @@ pub struct SampleLimits<'a> {
 /// The path the samples were taken on and its tool-side checks.
 pub struct PathChecks<'a> {
     pub path: &'a PiecewiseCubic,
-    pub profile: &'a SpeedProfile,
     /// The timed path as sampled (averaged over its filter's window).
     pub motion: &'a Filtered<'a>,
-    /// The tool path (same knots) and the tool-speed cap of every grid segment, m/s.
-    pub tool_speed: Option<(&'a PiecewiseCubic, &'a [f64])>,
-    /// The planned tool path and its tolerance.
-    pub tool_path: Option<&'a ToolPathCheck<'a>>,
+    /// The planned tool path and its tolerance, with the tool of every
+    /// sample (its forward kinematics, metres).
+    pub tool_path: Option<(&'a ToolPathCheck<'a>, &'a [[f64; 3]])>,
 }
 
 /// Every sample within the position limits, the velocity and acceleration
-/// limits, the tool-speed cap of its segment and the planned tool path's
-/// tolerance (the last two when given). `Err` names the first sample found
-/// outside, in this order.
+/// limits and the planned tool path's tolerance (when given), then the
+/// jerk limits. `Err` names the first sample found outside, in this order.
+/// (The tool's speed near hands: [`tool_speed`](super::tool_speed).)
 pub fn verify(
     trajectory: &JointTrajectory,
     limits: &SampleLimits,
@@ -226,29 +224,17 @@ pub fn verify(
                 });
             }
         }
-        // The path stretch the sample averages: [s(t − τ), s(t)].
-        let t = p.time_from_start;
-        let tau = checks.motion.tau();
-        let (s_lo, s_hi) = (checks.motion.s_at(t - tau), checks.motion.s_at(t));
-        if let Some((tool, caps)) = checks.tool_speed {
-            let (speed, limit) = tool_speed(checks, tool, caps, t, (s_lo, s_hi));
-            if !within(speed, limit, tolerance) {
-                return Err(LimitViolation {
-                    kind: LimitKind::ToolSpeed,
-                    sample: k,
-                    joint: 0,
-                    value: speed,
-                    limit,
-                });
-            }
-        }
-        if let Some(planned) = checks.tool_path {
+        if let Some((planned, tools)) = checks.tool_path {
+            // The path stretch the sample averages: [s(t − τ), s(t)].
+            let t = p.time_from_start;
+            let tau = checks.motion.tau();
+            let (s_lo, s_hi) = (checks.motion.s_at(t - tau), checks.motion.s_at(t));
             let (first, last) = (checks.path.locate(s_lo).0, checks.path.locate(s_hi).0);
             let segments = (
                 checks.path.segments_of(first).0,
                 checks.path.segments_of(last).1,
             );
-            let distance = planned.distance(planned.fk_of(&p.positions), segments);
+            let distance = planned.distance(tools[k], segments);
             if !within(distance, planned.tolerance_m, 0.0) {
                 return Err(LimitViolation {
                     kind: LimitKind::ToolDeviation,
@@ -282,43 +268,6 @@ pub fn verify(
         });
     }
     Ok(())
-}
-
-/// The tool's speed at time `t` and its cap, m/s. Unfiltered: the tool
-/// path's speed against its segment's cap. Filtered: the mean tool
-/// velocity over the window `[t − τ, t]` (what averaging the joints gives,
-/// to first order) against the smallest cap of the segments the window
-/// spans.
-fn tool_speed(
-    checks: &PathChecks,
-    tool: &PiecewiseCubic,
-    caps: &[f64],
-    t: f64,
-    (s_lo, s_hi): (f64, f64),
-) -> (f64, f64) {
-    let (mut x, mut dx, mut ddx) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-    let tau = checks.motion.tau();
-    if tau <= 0.0 {
-        let (s, s_dot, _, segment) = checks.profile.state_at(t);
-        tool.eval(s, &mut x, &mut dx, &mut ddx);
-        let speed = dx.iter().map(|d| d * d).sum::<f64>().sqrt() * s_dot;
-        return (speed, caps[segment]);
-    }
-    tool.eval(s_hi, &mut x, &mut dx, &mut ddx);
-    let ahead = x;
-    tool.eval(s_lo, &mut x, &mut dx, &mut ddx);
-    let speed = (0..3)
-        .map(|d| (ahead[d] - x[d]).powi(2))
-        .sum::<f64>()
-        .sqrt()
-        / tau;
-    let grid = &checks.profile.s;
-    let segment = |s: f64| (grid.partition_point(|&g| g <= s).max(1) - 1).min(caps.len() - 1);
-    let limit = caps[segment(s_lo)..=segment(s_hi)]
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min);
-    (speed, limit)
 }
 
 /// `|value| ≤ limit (1 + tolerance)`; false for NaN.
@@ -366,9 +315,7 @@ mod tests {
         let motion = Filtered::new(path, profile, 0.0);
         let checks = PathChecks {
             path,
-            profile,
             motion: &motion,
-            tool_speed: None,
             tool_path: None,
         };
         verify(trajectory, &limits, &checks)
