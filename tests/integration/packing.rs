@@ -19,11 +19,18 @@ use crate::util::{afford_with_path, fixture, plan_to_file, scratch_dir};
 /// cylinders, the replay's pieces in the box).
 #[test]
 fn round_piece_packs_into_the_corner_beside_a_square() {
-    let scene = fixture("packing/place-round-piece-beside-a-square.yaml");
-    let dir = scratch_dir("packing-round-beside-square");
+    plan_and_land_every_piece("place-round-piece-beside-a-square", 2);
+}
+
+/// Plans the packing fixture `name`, checks that `pieces` sub-goals were
+/// planned and that `afford check --physics` passes with every piece in
+/// its goal; returns the plan.
+fn plan_and_land_every_piece(name: &str, pieces: usize) -> serde_json::Value {
+    let scene = fixture(&format!("packing/{name}.yaml"));
+    let dir = scratch_dir(&format!("packing-{name}"));
     let (path, plan) = plan_to_file(&scene, &dir);
     let subgoals = plan["subgoals"].as_array().expect("sub-goals");
-    assert_eq!(subgoals.len(), 2, "both sub-goals planned");
+    assert_eq!(subgoals.len(), pieces, "every sub-goal planned");
     let checked = afford_with_path(
         &["check", scene.to_str().expect("UTF-8")],
         &path,
@@ -33,8 +40,9 @@ fn round_piece_packs_into_the_corner_beside_a_square() {
     let report = checked.json();
     assert_eq!(report["violations"], serde_json::json!([]), "{report}");
     let targets = report["physics"]["targets"].as_array().expect("targets");
-    assert_eq!(targets.len(), 2);
+    assert_eq!(targets.len(), pieces);
     assert!(targets.iter().all(|t| t["in_goal"] == true), "{targets:?}");
+    plan
 }
 
 /// Scene 195 of `afford bench transits --seed 1`: three round pieces fit
@@ -45,28 +53,13 @@ fn round_piece_packs_into_the_corner_beside_a_square() {
 /// plan.
 #[test]
 fn chained_round_pieces_leave_room_for_the_later_ones() {
-    let scene = fixture("packing/chained-round-pieces-leave-room.yaml");
-    let dir = scratch_dir("packing-chained-round-pieces");
-    let (path, plan) = plan_to_file(&scene, &dir);
+    let plan = plan_and_land_every_piece("chained-round-pieces-leave-room", 4);
     assert_eq!(
         plan["unsolved"],
         serde_json::json!([]),
         "{}",
         plan["unsolved"]
     );
-    let subgoals = plan["subgoals"].as_array().expect("sub-goals");
-    assert_eq!(subgoals.len(), 4, "every sub-goal planned");
-    let checked = afford_with_path(
-        &["check", scene.to_str().expect("UTF-8")],
-        &path,
-        &["--physics", "--json"],
-    );
-    checked.assert_code(0);
-    let report = checked.json();
-    assert_eq!(report["violations"], serde_json::json!([]), "{report}");
-    let targets = report["physics"]["targets"].as_array().expect("targets");
-    assert_eq!(targets.len(), 4);
-    assert!(targets.iter().all(|t| t["in_goal"] == true), "{targets:?}");
 }
 
 /// The monitor's valid-policy check rebuilds each sub-goal's grid on the
