@@ -9,6 +9,7 @@ use afford_planner::lift::LiftedMotion;
 use afford_planner::plan::{PlanOptions, SubgoalPlan, plan};
 use afford_planner::scenario::{Format, parse};
 use afford_planner::timing::examples::{EXAMPLES, REVERSAL_THRESHOLD, velocity_reversals};
+use afford_planner::trajectory::TimedMotion;
 
 /// The phase of every trajectory sample: the nearest joint-path waypoint
 /// (searched forward from the last one matched), named by its tool
@@ -115,22 +116,27 @@ fn diagnose_example_reversals() {
     }
 }
 
+/// The timed trajectory and joint names of the first sub-goal of the
+/// scenario `text` (YAML, named `file` in errors), planned with defaults.
+fn first_subgoal(text: &str, file: &str) -> (TimedMotion, Vec<String>) {
+    let scenario = parse(text, Format::Yaml, file).unwrap();
+    let mut planned = plan(&scenario, &PlanOptions::default()).unwrap();
+    let sub = planned.subgoals.swap_remove(0);
+    (sub.trajectory.unwrap(), sub.joint_names.unwrap())
+}
+
 /// The iiwa's base joint barely moves on the vertical moves of
 /// `examples/monitor/hand-approaching.yaml` (±6 mrad, the arm not planar);
 /// with every joint's tube narrowed wherever any waypoint's tool strayed,
 /// those few mrad came out as a fifth reversal of `joint_a1`.
 #[test]
 fn taut_joints_turn_at_most_four_times_on_the_hand_approaching_example() {
-    let text = include_str!("../../examples/monitor/hand-approaching.yaml");
-    let scenario = parse(text, Format::Yaml, "hand-approaching.yaml").unwrap();
-    let planned = plan(&scenario, &PlanOptions::default()).unwrap();
-    let sub = &planned.subgoals[0];
-    let (t, names) = (
-        sub.trajectory.as_ref().unwrap(),
-        sub.joint_names.as_ref().unwrap(),
+    let (t, names) = first_subgoal(
+        include_str!("../../examples/monitor/hand-approaching.yaml"),
+        "hand-approaching.yaml",
     );
     for (j, joint) in names.iter().enumerate() {
-        let turns = velocity_reversals(t, j);
+        let turns = velocity_reversals(&t, j);
         assert!(turns <= 4, "{joint} reverses {turns} times");
     }
 }
@@ -143,15 +149,11 @@ fn taut_joints_turn_at_most_four_times_on_the_hand_approaching_example() {
 /// spans that stretch: the height falls wherever the reach does.
 #[test]
 fn ease_spans_the_falling_reach_so_the_shoulder_turns_at_most_four_times_on_sensitive_yellow() {
-    let text = include_str!("../../examples/sensitive-yellow.yaml");
-    let scenario = parse(text, Format::Yaml, "sensitive-yellow.yaml").unwrap();
-    let planned = plan(&scenario, &PlanOptions::default()).unwrap();
-    let sub = &planned.subgoals[0];
-    let (t, names) = (
-        sub.trajectory.as_ref().unwrap(),
-        sub.joint_names.as_ref().unwrap(),
+    let (t, names) = first_subgoal(
+        include_str!("../../examples/sensitive-yellow.yaml"),
+        "sensitive-yellow.yaml",
     );
     let shoulder = names.iter().position(|n| n == "joint_a2").unwrap();
-    let turns = velocity_reversals(t, shoulder);
+    let turns = velocity_reversals(&t, shoulder);
     assert!(turns <= 4, "joint_a2 reverses {turns} times");
 }
