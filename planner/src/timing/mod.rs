@@ -84,6 +84,7 @@ pub mod deviation;
 pub mod examples;
 pub mod grid;
 pub mod jerk;
+pub mod jerk_floor;
 pub mod sample;
 pub mod separation;
 pub mod spline;
