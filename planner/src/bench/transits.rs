@@ -15,8 +15,10 @@ use serde::Serialize;
 
 use super::refusal::error_refusals;
 use super::scenes;
-use crate::instruction::work;
+use crate::instruction::{SubGoal, work};
+use crate::place;
 use crate::plan::{PlanOptions, Planner, StageTimings};
+use crate::scenario::Scenario;
 
 /// The robot whose scenes are measured.
 pub const ROBOT: &str = "care_o_bot4";
@@ -38,6 +40,9 @@ pub struct SceneTransits {
     pub refusals: Vec<&'static str>,
     /// Chained refusals that are transit refusals.
     pub transit_refusals: usize,
+    /// Whether the instruction puts more into some goal box than its floor
+    /// can hold ([`crate::place::over_capacity`]): no chain plans it all.
+    pub over_capacity: bool,
 }
 
 /// The campaign index of the `k`-th Care-O-bot scene.
@@ -80,11 +85,25 @@ pub fn run_scene(seed: u64, index: usize) -> SceneTransits {
     SceneTransits {
         index,
         subgoals: goals.len(),
+        over_capacity: overfills(&scenario, &goals),
         alone,
         chained: goals.len().saturating_sub(refusals.len()),
         transit_refusals: refusals.iter().filter(|&&k| k == TRANSIT_REFUSAL).count(),
         refusals,
     }
+}
+
+/// Whether `goals` put more into some goal box of `scenario` than its
+/// floor can hold ([`place::over_capacity`]).
+pub fn overfills(scenario: &Scenario, goals: &[SubGoal]) -> bool {
+    (0..scenario.goals.len()).any(|g| {
+        let arriving: Vec<usize> = goals
+            .iter()
+            .filter(|goal| scenario.goal_index(&goal.goal) == Some(g))
+            .filter_map(|goal| scenario.object_index(&goal.object))
+            .collect();
+        place::over_capacity(scenario, g, &arriving)
+    })
 }
 
 /// The campaign's counts.
@@ -107,6 +126,9 @@ pub struct TransitBenchReport {
     pub transit_refusals: usize,
     /// Scene indices where a sub-goal that plans alone does not plan chained.
     pub chain_losses: Vec<usize>,
+    /// Of the `chain_losses`, the scenes whose instruction overfills a goal
+    /// box ([`SceneTransits::over_capacity`]).
+    pub over_capacity: Vec<usize>,
 }
 
 impl TransitBenchReport {
@@ -135,6 +157,11 @@ impl TransitBenchReport {
                 .filter(|o| o.chained < o.subgoals)
                 .map(|o| o.index)
                 .collect(),
+            over_capacity: complete
+                .iter()
+                .filter(|o| o.chained < o.subgoals && o.over_capacity)
+                .map(|o| o.index)
+                .collect(),
         }
     }
 }
@@ -153,6 +180,7 @@ mod tests {
             chained,
             refusals: vec!["collides"; subgoals - chained],
             transit_refusals: 0,
+            over_capacity: index == 3,
         };
         let report = TransitBenchReport::of(
             1,
@@ -167,6 +195,26 @@ mod tests {
         assert_eq!(report.alone_scene_subgoals, 5);
         assert_eq!(report.alone_scene_subgoals_chained, 4);
         assert_eq!(report.chain_losses, vec![3]);
+        assert_eq!(report.over_capacity, vec![3]);
         assert_eq!(report.chained_refusals.get("collides"), Some(&1));
+    }
+
+    /// The three seed-1 scenes whose chains lose sub-goals to `goal_full`
+    /// (docs/decisions.md, "Chained `goal_full` losses") ask their box for
+    /// more than its floor holds; the default scene's three squares fit.
+    #[test]
+    fn chain_losses_of_seed_one_overfill_their_boxes() {
+        for index in [19, 63, 327] {
+            let scenario = scenes::scene(1, index);
+            let goals = work(&scenario, PlanOptions::default().seed)
+                .unwrap()
+                .subgoals;
+            assert!(overfills(&scenario, &goals), "scene {index}");
+        }
+        let scenario = crate::scenario::default_scenario().unwrap();
+        let goals = work(&scenario, PlanOptions::default().seed)
+            .unwrap()
+            .subgoals;
+        assert!(!overfills(&scenario, &goals));
     }
 }

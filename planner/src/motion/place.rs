@@ -401,6 +401,35 @@ impl Outline {
     }
 }
 
+/// Whether the pieces `arriving` (object indices) cannot all lie in
+/// `scenario.goals[goal]` beside the pieces already resting there, under
+/// this module's rules, wherever they are put: footprints [`WALL_CLEARANCE`]
+/// apart and inside the inner walls less [`WALL_CLEARANCE`]. Grown by half
+/// the clearance the footprints may not overlap and lie within that floor
+/// grown the same, so their areas cannot add up to more than its area. A
+/// certificate that a chain overfills the box (true: no planner can place
+/// them all), not a packing (false does not mean they fit).
+pub fn over_capacity(s: &Scenario, goal: usize, arriving: &[usize]) -> bool {
+    let [mu, mv] = s.metres_per_pixel();
+    let grow = WALL_CLEARANCE / 2.0;
+    let g = s.goals[goal].bbox;
+    let inset = 2.0 * (GOAL_WALL + WALL_CLEARANCE);
+    let floor = (g.w * mu - inset + 2.0 * grow).max(0.0) * (g.l * mv - inset + 2.0 * grow).max(0.0);
+    let resting = (0..s.objects.len()).filter(|&j| s.goal_holding(&s.objects[j]) == Some(goal));
+    let pieces: Vec<usize> = resting.chain(arriving.iter().copied()).collect();
+    let area: f64 = pieces
+        .iter()
+        .enumerate()
+        .filter(|&(k, j)| !pieces[..k].contains(j))
+        .map(|(_, &j)| {
+            let o = Outline::of(s, &s.objects[j]);
+            let (a, b, r) = (o.core[0] * mu, o.core[1] * mv, o.radius + grow);
+            4.0 * a * b + 4.0 * r * (a + b) + std::f64::consts::PI * r * r
+        })
+        .sum();
+    area > floor
+}
+
 /// Distance (m) between the footprint `outline` centred at `p` and piece
 /// `j` where it lies (0 when they overlap).
 fn gap(s: &Scenario, outline: &Outline, p: [f64; 2], j: usize) -> f64 {
@@ -459,6 +488,24 @@ mod tests {
         let second = release(&mut s, 1, Some([0.0, 0.04])).spot;
         assert_eq!(second[1], first[1], "same row");
         assert!(footprint_gap(&s, 1, 0) >= WALL_CLEARANCE);
+    }
+
+    /// A 75 mm box holds four 25 mm squares (two by two, 5 mm apart and
+    /// from the walls' clearance); the certificate passes four and
+    /// refuses the fifth, which the packing indeed finds no spot for.
+    #[test]
+    fn over_capacity_certifies_the_fifth_square_the_box_cannot_hold() {
+        let mut s = scene([20.0, 300.0, 120.0, 120.0]);
+        assert!(!over_capacity(&s, 0, &[0, 1, 2, 3]));
+        assert!(over_capacity(&s, 0, &[0, 1, 2, 3, 4]));
+        for object in 0..4 {
+            release(&mut s, object, None);
+        }
+        assert_eq!(
+            release_spot(&s, 4, 0, Room::default(), |_| true),
+            Err(NoSpot::Full)
+        );
+        assert!(over_capacity(&s, 0, &[4]), "the resting four count");
     }
 
     #[test]
