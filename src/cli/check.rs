@@ -14,7 +14,7 @@ use afford_kinematics::RobotModel;
 use serde::Serialize;
 
 use super::output::emit;
-use super::plan::{base_dir, load};
+use super::plan::{load, load_robot};
 use super::{CheckArgs, ExitKind, Failure};
 
 /// `--json` output: the verdict and every violation.
@@ -29,8 +29,7 @@ struct JsonReport<'a> {
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let scenario = load(Some(&args.scenario))?;
-    let robot = RobotModel::load(&scenario.robot.model, &base_dir(Some(&args.scenario)))
-        .map_err(|e| Failure::new(ExitKind::BadInput, format!("robot: {e}")))?;
+    let robot = load_robot(&scenario, Some(&args.scenario))?;
     let plan = read_plan_file(&args.plan)?;
     let mut report = check_plan(&scenario, &robot, &plan);
     let replayed = match args.physics {
