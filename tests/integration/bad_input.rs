@@ -259,3 +259,13 @@ fn csv_row_of_an_object_named_with_a_comma_keeps_its_field_count() {
     }
     assert!(rows > 100, "{rows} rows");
 }
+
+#[test]
+fn calibration_skewed_45_degrees_is_refused_naming_the_field() {
+    refused(
+        "calibration-skewed-45-degrees.yaml",
+        &["camera.pixel_to_base", "skewed", "45.0°", "within 1°"],
+    );
+    let valid = fixture("bad-input/calibration-skewed-half-a-degree.yaml");
+    scenario::load(&valid).expect("0.5° of skew is accepted");
+}

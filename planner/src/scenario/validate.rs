@@ -313,6 +313,17 @@ fn check_camera(s: &Scenario, push: &mut Push) -> bool {
         );
         return false;
     }
+    let skew = calibration_skew_deg(m);
+    if skew > MAX_CALIBRATION_SKEW_DEG {
+        push(
+            "camera.pixel_to_base".into(),
+            format!(
+                "is skewed: the image's u and v axes meet at {:.1}° on the table, not 90°; boxes are modelled as rectangles, so they must be perpendicular within {MAX_CALIBRATION_SKEW_DEG}°",
+                90.0 - skew
+            ),
+        );
+        return false;
+    }
     let (w, h) = (c.width as f64, c.height as f64);
     let far = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]]
         .into_iter()
@@ -335,6 +346,14 @@ fn check_camera(s: &Scenario, push: &mut Push) -> bool {
         );
     }
     ok
+}
+
+/// How far from perpendicular the table directions of the image's u and v
+/// axes (the columns of `pixel_to_base`'s linear part) are, degrees.
+fn calibration_skew_deg(m: &[[f64; 3]; 2]) -> f64 {
+    let (u, v) = ([m[0][0], m[1][0]], [m[0][1], m[1][1]]);
+    let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1]));
+    90.0 - cos.abs().min(1.0).acos().to_degrees()
 }
 
 fn check_safety(s: &Scenario, push: &mut Push) {
