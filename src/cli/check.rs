@@ -55,7 +55,10 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     match report.violations.len() {
         0 => {
             if !args.json {
-                eprintln!("{name}: {} sub-goal(s) pass every check", plan.subgoals.len());
+                eprintln!(
+                    "{name}: {} sub-goal(s) pass every check",
+                    plan.subgoals.len()
+                );
             }
             Ok(())
         }

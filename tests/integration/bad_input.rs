@@ -269,3 +269,39 @@ fn calibration_skewed_45_degrees_is_refused_naming_the_field() {
     let valid = fixture("bad-input/calibration-skewed-half-a-degree.yaml");
     scenario::load(&valid).expect("0.5° of skew is accepted");
 }
+
+/// Validation refuses the value before any planning (asserted on the
+/// library first, so a regression fails here instead of hanging the CLI).
+#[test]
+fn continuous_joint_at_1e17_rad_is_refused_naming_the_field_not_planned_forever() {
+    refused(
+        "continuous-joint-at-1e17-rad.yaml",
+        &["robot.joints.j6", "within ±1000", "got 1e17"],
+    );
+    let path = fixture("bad-input/continuous-joint-at-1e17-rad.yaml");
+    let text = std::fs::read_to_string(&path).expect("fixture");
+    let dir = scratch_dir("continuous-joint-bound");
+    for (value, accepted) in [("1000.0", true), ("-1000.5", false), ("10000.0", false)] {
+        let copy = dir.join(format!("j6-{value}.yaml"));
+        let model = path
+            .parent()
+            .expect("folder")
+            .join("../../../kinematics/tests/fixtures/continuous.yaml");
+        let edited = text.replace("j6: 1e17", &format!("j6: {value}")).replace(
+            "../../../kinematics/tests/fixtures/continuous.yaml",
+            model.to_str().expect("UTF-8"),
+        );
+        std::fs::write(&copy, edited).expect("write");
+        assert_eq!(scenario::load(&copy).is_ok(), accepted, "j6 = {value}");
+    }
+}
+
+/// The scenario's bound on `robot.joints` is the independent check's bound
+/// on positions: a start afford accepts is one `afford check` reads.
+#[test]
+fn joint_position_bound_is_the_independent_checks() {
+    assert_eq!(
+        scenario::bounds::MAX_JOINT_POSITION,
+        afford::check::MAX_ABS_POSITION
+    );
+}

@@ -42,10 +42,13 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         check_pixel(s, "robot.start", start, push);
     }
     for (name, value) in s.robot.joints.iter().flatten() {
-        if !value.is_finite() {
+        if !(value.is_finite() && value.abs() <= MAX_JOINT_POSITION) {
             push(
                 format!("robot.joints.{name}"),
-                format!("must be a finite joint position (rad or m), got {value}"),
+                format!(
+                    "must be a finite joint position within ±{MAX_JOINT_POSITION} (rad or m), got {}",
+                    shown(*value)
+                ),
             );
         }
     }
