@@ -305,3 +305,15 @@ fn joint_position_bound_is_the_independent_checks() {
         afford::check::MAX_ABS_POSITION
     );
 }
+
+#[test]
+fn camera_width_negative_says_a_whole_number_is_wanted_not_invalid_u32() {
+    refused(
+        "camera-width-negative.yaml",
+        &["camera.width", "whole number from 0 to 4294967295"],
+    );
+    let message = scenario::load(&fixture("bad-input/camera-width-negative.yaml"))
+        .expect_err("refused")
+        .to_string();
+    assert!(!message.contains("u32"), "{message}");
+}

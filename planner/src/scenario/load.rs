@@ -135,11 +135,29 @@ fn yaml_message(e: &serde_saphyr::Error) -> String {
         E::DuplicateMappingKey { key: None, .. } => {
             "a field is given twice (a duplicate key); give each field once".to_string()
         }
+        E::InvalidScalar { ty, .. } => match integer_max(ty) {
+            Some(max) => format!(
+                "invalid number: must be a whole number from 0 to {max} (no sign, no fraction, no exponent)"
+            ),
+            None => format!("is not a valid {ty}"),
+        },
         E::Budget { breach, .. } => format!(
             "the file is too large for a scenario: {}",
             budget_breach(breach)
         ),
         other => strip_location(&other.to_string()),
+    }
+}
+
+/// The largest value of an unsigned integer type named by the YAML reader
+/// ("invalid u32" told a user neither the type's meaning nor its range).
+fn integer_max(ty: &str) -> Option<u64> {
+    match ty {
+        "u8" => Some(u8::MAX.into()),
+        "u16" => Some(u16::MAX.into()),
+        "u32" => Some(u32::MAX.into()),
+        "u64" | "usize" => Some(u64::MAX),
+        _ => None,
     }
 }
 
