@@ -317,3 +317,18 @@ fn camera_width_negative_says_a_whole_number_is_wanted_not_invalid_u32() {
         .to_string();
     assert!(!message.contains("u32"), "{message}");
 }
+
+#[test]
+fn json_with_a_byte_order_mark_is_read_not_expected_value_at_1_1() {
+    let path = fixture("bad-input/json-with-a-byte-order-mark.json");
+    let scenario = scenario::load(&path).expect("a UTF-8 BOM is skipped");
+    assert_eq!(scenario.objects.len(), 1);
+    afford_with_path(&["validate"], &path, &[])
+        .assert_code(0)
+        .assert_no_panic();
+}
+
+#[test]
+fn utf_16_file_is_refused_saying_it_is_not_utf_8() {
+    refused("utf-16.yaml", &["not UTF-8 text", "save it as UTF-8"]);
+}

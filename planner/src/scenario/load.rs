@@ -37,7 +37,13 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
         Format::from_path(path).ok_or_else(|| ScenarioError::Extension { file: file.clone() })?;
     let io = |e: std::io::Error| ScenarioError::Io {
         file: file.clone(),
-        message: e.to_string(),
+        message: match e.kind() {
+            std::io::ErrorKind::InvalidData => {
+                "the file is not UTF-8 text (save it as UTF-8; UTF-16 and Latin-1 are not read)"
+                    .to_string()
+            }
+            _ => e.to_string(),
+        },
     };
     // Read one byte more than allowed: a larger file is refused unread.
     let mut text = String::new();
@@ -64,8 +70,11 @@ pub fn check(scenario: &Scenario, file: &str) -> Result<(), ScenarioError> {
 }
 
 /// Parses and validates scenario text; `file` is the name used in errors.
-/// Text longer than [`MAX_FILE_BYTES`] is refused before parsing.
+/// Text longer than [`MAX_FILE_BYTES`] is refused before parsing. A leading
+/// UTF-8 byte-order mark (Windows editors write one) is skipped: the JSON
+/// reader stopped at it with "expected value" at 1:1.
 pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, ScenarioError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.len() as u64 > MAX_FILE_BYTES {
         return Err(ScenarioError::Parse {
             file: file.to_string(),
