@@ -79,7 +79,9 @@ fn physics(
 ) -> Option<ReplayReport> {
     let started = std::time::Instant::now();
     let (replayed, found) = afford_check::physics::check_physics(scenario, robot, plan);
-    if let Some(r) = &replayed {
+    // A plan that could not be turned into motions replays nothing: its
+    // `physics` violation says why, no "0 steps, 0 of 0 pieces" line.
+    if let Some(r) = replayed.as_ref().filter(|r| r.steps > 0) {
         let moved = r.pieces.iter().filter(|p| p.moved).count();
         let inside = r.targets.iter().filter(|t| t.in_goal).count();
         eprintln!(

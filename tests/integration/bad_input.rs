@@ -332,3 +332,28 @@ fn json_with_a_byte_order_mark_is_read_not_expected_value_at_1_1() {
 fn utf_16_file_is_refused_saying_it_is_not_utf_8() {
     refused("utf-16.yaml", &["not UTF-8 text", "save it as UTF-8"]);
 }
+
+/// A plan whose object is not in the scenario cannot be replayed: its
+/// `physics` violation says so, and stderr has no "0 steps … 0 of 0
+/// pieces in their goal" summary as if a replay had run.
+#[test]
+fn physics_check_of_a_plan_it_cannot_replay_prints_no_empty_replay_summary() {
+    let dir = scratch_dir("physics-cannot-replay");
+    let scenario = repo().join("examples/sort-blue-squares.yaml");
+    let (plan_file, mut plan) = crate::util::plan_to_file(&scenario, &dir);
+    plan["subgoals"][0]["object"] = serde_json::json!("ghost");
+    std::fs::write(&plan_file, plan.to_string()).expect("write");
+    let run = afford(&[
+        "check",
+        "--physics",
+        scenario.to_str().expect("UTF-8"),
+        plan_file.to_str().expect("UTF-8"),
+    ]);
+    run.assert_code(1).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stdout,
+        &["physics", "cannot replay", "ghost"],
+    );
+    assert!(!run.stderr.contains("0 steps"), "{}", run.stderr);
+}
