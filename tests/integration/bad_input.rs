@@ -357,3 +357,35 @@ fn physics_check_of_a_plan_it_cannot_replay_prints_no_empty_replay_summary() {
     );
     assert!(!run.stderr.contains("0 steps"), "{}", run.stderr);
 }
+
+/// The new checks (goal walls, calibration skew, joint bound, control
+/// characters) refuse no scene the benchmarks generate: the safety
+/// campaign's and the CQL benchmark's series stay as they were.
+#[test]
+fn every_benchmark_scene_passes_the_bad_input_checks() {
+    use afford::planner::bench::{generator, scenes};
+    for k in 0..1000 {
+        let scene = scenes::scene(1, k);
+        assert!(
+            scene.validate().is_ok(),
+            "safety scene {k}: {:?}",
+            scene.validate()
+        );
+    }
+    // The CQL series is a learner's grid, not a scenario file: some scenes
+    // hold more clutter than `objects` allows. Only the new checks matter.
+    for k in 0..300 {
+        let issues = match generator::scene(1, k).validate() {
+            Ok(()) => continue,
+            Err(e) => e.to_string(),
+        };
+        for new_check in [
+            "goals[",
+            "pixel_to_base",
+            "robot.joints",
+            "control characters",
+        ] {
+            assert!(!issues.contains(new_check), "cql scene {k}: {issues}");
+        }
+    }
+}
