@@ -168,11 +168,15 @@ pub const DEFAULT_GRIPPER_TIME: Real = 0.5;
 
 /// Parses description YAML; `file` is only used in error messages.
 pub(crate) fn parse(text: &str, file: &Path) -> Result<Description, KinematicsError> {
-    let d: Description =
-        serde_saphyr::from_str(text).map_err(|e| KinematicsError::DescriptionSyntax {
+    // No source snippet: it named the file `<input>` and spread one error
+    // over a dozen lines; the message keeps its line and column.
+    let options = serde_saphyr::options! { with_snippet: false };
+    let d: Description = serde_saphyr::from_str_with_options(text, options).map_err(|e| {
+        KinematicsError::DescriptionSyntax {
             file: file.to_path_buf(),
             message: e.to_string(),
-        })?;
+        }
+    })?;
     let element = |element: String, problem: String| KinematicsError::DescriptionElement {
         file: file.to_path_buf(),
         element,

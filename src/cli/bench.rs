@@ -23,7 +23,7 @@ use super::{
 };
 
 pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
-    at_least_one(args.scenarios, "scenarios")?;
+    count_in(args.scenarios, "scenarios", MAX_SCENES)?;
     let config = CqlBenchConfig {
         scenarios: args.scenarios,
         seed: args.common.seed,
@@ -40,7 +40,7 @@ pub fn cql(args: &BenchCqlArgs) -> Result<(), Failure> {
 }
 
 pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
-    at_least_one(args.poses, "poses")?;
+    count_in(args.poses, "poses", MAX_POSES)?;
     let bar = progress_bar(1, "runs");
     bar.set_message("solving");
     let report = afford_kinematics::ik_benchmark(args.poses, args.common.seed)
@@ -96,7 +96,7 @@ pub fn timing(args: &BenchSeedArgs) -> Result<(), Failure> {
 }
 
 pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
-    at_least_one(args.runs, "runs")?;
+    count_in(args.runs, "runs", MAX_RUNS)?;
     let scenario = load(args.scenario.as_deref())?;
     let options = PlanOptions {
         base_dir: base_dir(args.scenario.as_deref()),
@@ -113,7 +113,7 @@ pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
 
 pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
     let seed = args.common.seed;
-    at_least_one(args.scenarios, "scenarios")?;
+    count_in(args.scenarios, "scenarios", MAX_SCENES)?;
     if let Some(dir) = &args.write_scenes {
         write_scenes(dir, seed, args.scenarios)?;
     }
@@ -129,7 +129,7 @@ pub fn safety(args: &BenchSafetyArgs) -> Result<(), Failure> {
 
 pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
     let seed = args.common.seed;
-    at_least_one(args.scenes, "scenes")?;
+    count_in(args.scenes, "scenes", MAX_SCENES)?;
     let outcomes = scenes_in_parallel(args.scenes, |k| {
         transits::run_scene(seed, transits::scene_index(k))
     });
@@ -139,7 +139,7 @@ pub fn transits(args: &BenchTransitsArgs) -> Result<(), Failure> {
 
 pub fn routes(args: &BenchRoutesArgs) -> Result<(), Failure> {
     let seed = args.common.seed;
-    at_least_one(args.scenarios, "scenarios")?;
+    count_in(args.scenarios, "scenarios", MAX_SCENES)?;
     let measured = scenes_in_parallel(args.scenarios, |k| routes::run_scene(seed, k));
     let report = routes::RoutesReport::of(seed, args.scenarios, &measured);
     print_report(&report, args.common.json)
@@ -161,15 +161,25 @@ fn scenes_in_parallel<T: Send>(count: usize, run: impl Fn(usize) -> T + Sync) ->
     outcomes
 }
 
-/// A count option must be at least 1: `--{flag} must be at least 1`.
-fn at_least_one(count: usize, flag: &str) -> Result<(), Failure> {
-    match count {
-        0 => Err(Failure::new(
-            ExitKind::BadInput,
-            format!("--{flag} must be at least 1"),
-        )),
-        _ => Ok(()),
+/// Most scenes a scene benchmark (`cql`, `safety`, `routes`, `transits`,
+/// `monitor`) runs: its outcomes are held in memory (100,000 safety scenes
+/// take about a day on 2 cores).
+const MAX_SCENES: usize = 100_000;
+/// Most `bench pipeline --runs` (each plans the whole scenario).
+const MAX_RUNS: usize = 10_000;
+/// Most `bench ik --poses` per arm (their solve times are held in memory).
+const MAX_POSES: usize = 1_000_000;
+
+/// A count option must lie in `1..=max` (a larger one overflowed a
+/// vector's capacity, a panic): `--{flag} must be …`.
+fn count_in(count: usize, flag: &str, max: usize) -> Result<(), Failure> {
+    if (1..=max).contains(&count) {
+        return Ok(());
     }
+    Err(Failure::new(
+        ExitKind::BadInput,
+        format!("--{flag} must be between 1 and {max}, got {count}"),
+    ))
 }
 
 /// Writes scenes `0..count` of the series `seed` as YAML scenario files.
@@ -232,7 +242,7 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
 pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
     use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
     use afford_planner::monitor::Monitor;
-    at_least_one(args.scenes, "scenes")?;
+    count_in(args.scenes, "scenes", MAX_SCENES)?;
     let bar = progress_bar(args.scenes as u64, "scenes");
     let config = MonitorBenchConfig {
         scenes: args.scenes,

@@ -14,7 +14,7 @@ use afford_kinematics::RobotModel;
 use serde::Serialize;
 
 use super::output::emit;
-use super::plan::{base_dir, load};
+use super::plan::{load, load_robot};
 use super::{CheckArgs, ExitKind, Failure};
 
 /// `--json` output: the verdict and every violation.
@@ -29,8 +29,7 @@ struct JsonReport<'a> {
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let scenario = load(Some(&args.scenario))?;
-    let robot = RobotModel::load(&scenario.robot.model, &base_dir(Some(&args.scenario)))
-        .map_err(|e| Failure::new(ExitKind::BadInput, format!("robot: {e}")))?;
+    let robot = load_robot(&scenario, Some(&args.scenario))?;
     let plan = read_plan_file(&args.plan)?;
     let mut report = check_plan(&scenario, &robot, &plan);
     let replayed = match args.physics {
@@ -56,7 +55,10 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     match report.violations.len() {
         0 => {
             if !args.json {
-                eprintln!("{name}: {} sub-goals pass every check", plan.subgoals.len());
+                eprintln!(
+                    "{name}: {} sub-goal(s) pass every check",
+                    plan.subgoals.len()
+                );
             }
             Ok(())
         }
@@ -77,7 +79,9 @@ fn physics(
 ) -> Option<ReplayReport> {
     let started = std::time::Instant::now();
     let (replayed, found) = afford_check::physics::check_physics(scenario, robot, plan);
-    if let Some(r) = &replayed {
+    // A plan that could not be turned into motions replays nothing: its
+    // `physics` violation says why, no "0 steps, 0 of 0 pieces" line.
+    if let Some(r) = replayed.as_ref().filter(|r| r.steps > 0) {
         let moved = r.pieces.iter().filter(|p| p.moved).count();
         let inside = r.targets.iter().filter(|t| t.in_goal).count();
         eprintln!(

@@ -70,8 +70,8 @@ pub struct RunArgs {
     /// Seed for every random choice; same scenario + seed gives byte-identical output (without --timings).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Output format (csv: one row per executed sample).
-    #[arg(long, value_enum, default_value_t = OutputFormat::Json)]
+    /// Output format: json, yaml or csv (one row per executed sample).
+    #[arg(long, value_parser = run_format, default_value = "json")]
     pub format: OutputFormat,
     /// Write the executed run to this file instead of standard output.
     #[arg(short, long)]
@@ -200,6 +200,17 @@ pub enum OutputFormat {
     Csv,
     /// A few lines for a person (`afford plan` only).
     Summary,
+}
+
+/// `afford run --format`: json, yaml or csv. The summary is `afford
+/// plan`'s only (it was accepted and printed YAML).
+fn run_format(text: &str) -> Result<OutputFormat, String> {
+    match OutputFormat::from_str(text, true)? {
+        OutputFormat::Summary => {
+            Err("`summary` is for `afford plan`; `afford run` writes json, yaml or csv".into())
+        }
+        format => Ok(format),
+    }
 }
 
 #[derive(Debug, Subcommand)]

@@ -41,6 +41,9 @@ pub fn print(text: &str) -> Result<(), Failure> {
 }
 
 /// Writes `text` to `path` atomically, or to stdout when `path` is `None`.
+/// The temporary sibling is this process's own (`FILE.PID.partial`: two
+/// runs writing one file never mix their halves) and is removed when the
+/// write or the rename fails (`-o` naming a folder left `DIR.partial`).
 pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
     let Some(path) = path else {
         return print(text);
@@ -52,9 +55,13 @@ pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
         )
     };
     let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".partial");
-    std::fs::write(&tmp, text).map_err(bad)?;
-    std::fs::rename(&tmp, path).map_err(bad)
+    tmp.push(format!(".{}.partial", std::process::id()));
+    let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        // Best effort: the temporary may not exist; the error is the write's.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.map_err(bad)
 }
 
 /// The trajectories of a plan as CSV, one row per sample: sub-goal index,
@@ -83,10 +90,10 @@ pub fn render_csv(plan: &afford_planner::Plan) -> Result<String, Failure> {
         let Some(t) = &s.trajectory else { continue };
         for p in &t.points {
             let gripper = t.gripper_state(p.time_from_start).name();
-            let arm = s.arm.as_deref().unwrap_or("");
+            let arm = csv_text(s.arm.as_deref().unwrap_or(""));
             out.push_str(&format!(
                 "{k},{},{arm},{},{gripper},{}\n",
-                s.object,
+                csv_text(&s.object),
                 p.time_from_start,
                 csv_numbers(p)
             ));
@@ -109,6 +116,16 @@ pub fn csv_header(leading: &[&str], dof: usize) -> String {
     header.join(",") + "\n"
 }
 
+/// A text field as CSV (RFC 4180): quoted, with its quotes doubled, when
+/// it holds a comma, a quote or a line break (`left box, top`); as it is
+/// otherwise.
+pub fn csv_text(text: &str) -> std::borrow::Cow<'_, str> {
+    match text.contains([',', '"', '\n', '\r']) {
+        true => format!("\"{}\"", text.replace('"', "\"\"")).into(),
+        false => text.into(),
+    }
+}
+
 /// A sample's positions, velocities and accelerations as CSV fields.
 pub fn csv_numbers(p: &TrajectoryPoint) -> String {
     let values = p
@@ -123,6 +140,14 @@ pub fn csv_numbers(p: &TrajectoryPoint) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A name with a comma or a quote stays one CSV field.
+    #[test]
+    fn csv_text_with_a_comma_or_quote_stays_one_field() {
+        assert_eq!(csv_text("blue-square-1"), "blue-square-1");
+        assert_eq!(csv_text("left box, top"), "\"left box, top\"");
+        assert_eq!(csv_text("the \"big\" one"), "\"the \"\"big\"\" one\"");
+    }
 
     /// The gripper column follows the events: open, closing for the closing
     /// time, closed while carrying, opening, open again.

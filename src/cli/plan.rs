@@ -31,22 +31,11 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     };
     let plan = match plan(&scenario, &options) {
         Ok(plan) => plan,
-        Err(PlanError::Unsolvable { reasons, unsolved }) => {
-            // Nothing planned: no plan is printed, but the picture shows
-            // the scene and why each sub-goal failed.
-            if let Some(svg) = &args.svg {
-                draw(
-                    &scenario,
-                    &nothing_planned(&scenario, &options, unsolved),
-                    &robot,
-                    svg,
-                )?;
-            }
-            let e = PlanError::Unsolvable {
-                reasons,
-                unsolved: Vec::new(),
-            };
-            return Err(Failure::new(ExitKind::CouldNotPlan, e.to_string()));
+        // Nothing planned: the plan is still written (no sub-goals, every
+        // `unsolved` entry with its typed `refusal`), so a program reads
+        // why without parsing stderr, and the picture shows each failure.
+        Err(PlanError::Unsolvable { unsolved, .. }) => {
+            nothing_planned(&scenario, &options, unsolved)
         }
         Err(e) => {
             return Err(match e {
@@ -61,14 +50,17 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         }
     };
     let text = match format(args) {
+        OutputFormat::Csv if plan.subgoals.is_empty() => String::new(),
         OutputFormat::Csv => render_csv(&plan)?,
         OutputFormat::Summary => super::summary::summary(&plan),
         format => render(&plan, format)?,
     };
-    emit(&text, args.output.as_deref())?;
+    // The picture first: when it cannot be written, no plan is left behind
+    // by a run that exits 2.
     if let Some(svg) = &args.svg {
         draw(&scenario, &plan, &robot, svg)?;
     }
+    emit(&text, args.output.as_deref())?;
     for note in &plan.skipped {
         eprintln!("afford: left where it is: {note}");
     }
@@ -78,14 +70,23 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     let reasons: Vec<String> = plan
         .unsolved
         .iter()
-        .map(|u| format!("{} → {}: {}", u.object, u.goal, u.reason))
+        .map(|u| {
+            format!(
+                "{} → {}: {} [{}]",
+                u.object,
+                u.goal,
+                u.reason,
+                u.refusal.kind()
+            )
+        })
         .collect();
+    let some = match plan.subgoals.is_empty() {
+        true => "no sub-goal could be planned",
+        false => "some sub-goals could not be planned",
+    };
     Err(Failure::new(
         ExitKind::CouldNotPlan,
-        format!(
-            "some sub-goals could not be planned:\n  - {}",
-            reasons.join("\n  - ")
-        ),
+        format!("{some}:\n  - {}", reasons.join("\n  - ")),
     ))
 }
 

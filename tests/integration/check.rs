@@ -438,7 +438,7 @@ fn check_accepts_every_example_plan_of_both_robots() {
             .to_string_lossy()
             .to_string();
         let run = afford_with_path(&["plan"], &scenario, &[]);
-        if run.code == Some(2) || run.stdout.is_empty() {
+        if run.code == Some(2) || run.stdout.is_empty() || run.json()["subgoals"] == json!([]) {
             continue;
         }
         let c = check(&name, &scenario, &run.json());

@@ -2,6 +2,7 @@
 //! module per topic. Fixtures live in tests/fixtures/.
 
 mod api;
+mod bad_input;
 mod cases;
 mod check;
 mod cli;

@@ -60,7 +60,11 @@ fn svg_draws_failures_when_nothing_planned() {
     let svg = dir.join("plan.svg");
     let run = afford_with_path(&["plan"], &scene, &["--svg", svg.to_str().unwrap()]);
     run.assert_code(1).assert_no_panic();
-    assert!(run.stdout.is_empty(), "nothing planned prints no plan");
+    assert_eq!(
+        run.json()["subgoals"],
+        serde_json::json!([]),
+        "nothing planned prints the plan of no sub-goals"
+    );
     let picture = std::fs::read_to_string(&svg).expect("the picture is drawn");
     assert_contains_all(
         "svg of a plan that failed",

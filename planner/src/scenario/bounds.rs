@@ -29,6 +29,21 @@ pub const MIN_OBJECT_SIDE_M: f64 = 0.005;
 /// Bounds every tool path's length and so the number of waypoints.
 pub const MAX_TABLE_EXTENT_M: f64 = 10.0;
 
+/// Largest skew of `camera.pixel_to_base`, degrees: the image's u and v axes
+/// must map to table directions perpendicular within this. Every box is
+/// modelled as a rectangle (planner, collision scene and the independent
+/// check alike); a skewed map turns it into a parallelogram whose corners
+/// reach outside the model (a 10 cm hand at 1° skew: 1.7 mm, well inside
+/// any margin; at 45°: 7 cm).
+pub const MAX_CALIBRATION_SKEW_DEG: f64 = 1.0;
+
+/// Largest |`robot.joints.<name>`|, rad or m. Joint limits bound every
+/// other joint tighter; a continuous joint takes any value within it. The
+/// independent check reads no position beyond it
+/// (`afford_check::format::MAX_ABS_POSITION`); at 1e17 rad the transit's
+/// continuous check never ended, at 1e300 IK got a non-finite target.
+pub const MAX_JOINT_POSITION: f64 = 1e3;
+
 /// Smallest height of an object, goal wall or hand, metres (5 mm). Above the
 /// 2 mm slice of a held object that may rest on its support
 /// ([`crate::clearance::SUPPORT_GAP`]), so a held object always has a body.

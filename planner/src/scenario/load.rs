@@ -37,7 +37,13 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
         Format::from_path(path).ok_or_else(|| ScenarioError::Extension { file: file.clone() })?;
     let io = |e: std::io::Error| ScenarioError::Io {
         file: file.clone(),
-        message: e.to_string(),
+        message: match e.kind() {
+            std::io::ErrorKind::InvalidData => {
+                "the file is not UTF-8 text (save it as UTF-8; UTF-16 and Latin-1 are not read)"
+                    .to_string()
+            }
+            _ => e.to_string(),
+        },
     };
     // Read one byte more than allowed: a larger file is refused unread.
     let mut text = String::new();
@@ -64,8 +70,11 @@ pub fn check(scenario: &Scenario, file: &str) -> Result<(), ScenarioError> {
 }
 
 /// Parses and validates scenario text; `file` is the name used in errors.
-/// Text longer than [`MAX_FILE_BYTES`] is refused before parsing.
+/// Text longer than [`MAX_FILE_BYTES`] is refused before parsing. A leading
+/// UTF-8 byte-order mark (Windows editors write one) is skipped: the JSON
+/// reader stopped at it with "expected value" at 1:1.
 pub fn parse(text: &str, format: Format, file: &str) -> Result<Scenario, ScenarioError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.len() as u64 > MAX_FILE_BYTES {
         return Err(ScenarioError::Parse {
             file: file.to_string(),
@@ -135,11 +144,29 @@ fn yaml_message(e: &serde_saphyr::Error) -> String {
         E::DuplicateMappingKey { key: None, .. } => {
             "a field is given twice (a duplicate key); give each field once".to_string()
         }
+        E::InvalidScalar { ty, .. } => match integer_max(ty) {
+            Some(max) => format!(
+                "invalid number: must be a whole number from 0 to {max} (no sign, no fraction, no exponent)"
+            ),
+            None => format!("is not a valid {ty}"),
+        },
         E::Budget { breach, .. } => format!(
             "the file is too large for a scenario: {}",
             budget_breach(breach)
         ),
         other => strip_location(&other.to_string()),
+    }
+}
+
+/// The largest value of an unsigned integer type named by the YAML reader
+/// ("invalid u32" told a user neither the type's meaning nor its range).
+fn integer_max(ty: &str) -> Option<u64> {
+    match ty {
+        "u8" => Some(u8::MAX.into()),
+        "u16" => Some(u16::MAX.into()),
+        "u32" => Some(u32::MAX.into()),
+        "u64" | "usize" => Some(u64::MAX),
+        _ => None,
     }
 }
 

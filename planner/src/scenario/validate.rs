@@ -9,6 +9,7 @@ use super::bounds::*;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
 use crate::instruction::lexicon::{COLOURS, SHAPES};
+use afford_collision::GOAL_WALL;
 
 /// Collects issues; `push(field, message)`.
 type Push<'a> = dyn FnMut(String, String) + 'a;
@@ -41,10 +42,13 @@ pub fn validate(s: &Scenario) -> Vec<FieldIssue> {
         check_pixel(s, "robot.start", start, push);
     }
     for (name, value) in s.robot.joints.iter().flatten() {
-        if !value.is_finite() {
+        if !(value.is_finite() && value.abs() <= MAX_JOINT_POSITION) {
             push(
                 format!("robot.joints.{name}"),
-                format!("must be a finite joint position (rad or m), got {value}"),
+                format!(
+                    "must be a finite joint position within ±{MAX_JOINT_POSITION} (rad or m), got {}",
+                    shown(*value)
+                ),
             );
         }
     }
@@ -158,6 +162,9 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
         if camera_ok && box_ok && field.starts_with("objects") {
             check_target_size(s, &format!("{field}.box"), bbox, push);
         }
+        if camera_ok && box_ok && field.starts_with("goals") {
+            check_goal_size(s, &field, bbox, height, push);
+        }
     }
     for (i, o) in s.objects.iter().take(MAX_OBJECTS).enumerate() {
         for (what, text) in [("color", &o.color), ("shape", &o.shape)] {
@@ -259,6 +266,28 @@ fn check_target_size(s: &Scenario, field: &str, b: PixelBox, push: &mut Push) {
     }
 }
 
+/// A goal is an open box of [`GOAL_WALL`]-thick walls and floor: it must be
+/// wider than two walls on each side and taller than its floor, else the
+/// collision scene cannot be built (it was an `internal` refusal).
+fn check_goal_size(s: &Scenario, field: &str, b: PixelBox, height: f64, push: &mut Push) {
+    let [mu, mv] = s.metres_per_pixel();
+    let (w_m, l_m) = (b.w * mu, b.l * mv);
+    if w_m.min(l_m) <= 2.0 * GOAL_WALL {
+        push(
+            format!("{field}.box"),
+            format!(
+                "the goal is {w_m:.4} x {l_m:.4} m on the table; a goal box must be wider than its two {GOAL_WALL} m walls on each side"
+            ),
+        );
+    }
+    if height.is_finite() && height <= GOAL_WALL {
+        push(
+            format!("{field}.height"),
+            format!("must be more than the goal box's {GOAL_WALL} m floor, got {height:?}"),
+        );
+    }
+}
+
 /// Returns true when the camera is usable for the size checks in metres.
 fn check_camera(s: &Scenario, push: &mut Push) -> bool {
     let c = &s.camera;
@@ -287,6 +316,17 @@ fn check_camera(s: &Scenario, push: &mut Push) -> bool {
         );
         return false;
     }
+    let skew = calibration_skew_deg(m);
+    if skew > MAX_CALIBRATION_SKEW_DEG {
+        push(
+            "camera.pixel_to_base".into(),
+            format!(
+                "is skewed: the image's u and v axes meet at {:.1}° on the table, not 90°; boxes are modelled as rectangles, so they must be perpendicular within {MAX_CALIBRATION_SKEW_DEG}°",
+                90.0 - skew
+            ),
+        );
+        return false;
+    }
     let (w, h) = (c.width as f64, c.height as f64);
     let far = [[0.0, 0.0], [w, 0.0], [0.0, h], [w, h]]
         .into_iter()
@@ -311,6 +351,14 @@ fn check_camera(s: &Scenario, push: &mut Push) -> bool {
     ok
 }
 
+/// How far from perpendicular the table directions of the image's u and v
+/// axes (the columns of `pixel_to_base`'s linear part) are, degrees.
+fn calibration_skew_deg(m: &[[f64; 3]; 2]) -> f64 {
+    let (u, v) = ([m[0][0], m[1][0]], [m[0][1], m[1][1]]);
+    let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1]));
+    90.0 - cos.abs().min(1.0).acos().to_degrees()
+}
+
 fn check_safety(s: &Scenario, push: &mut Push) {
     let safety = &s.safety;
     for (name, value) in [
@@ -321,7 +369,7 @@ fn check_safety(s: &Scenario, push: &mut Push) {
         if !(value.is_finite() && (0.0..=1.0).contains(&value)) {
             push(
                 format!("safety.{name}"),
-                format!("must be between 0 and 1 metre, got {value}"),
+                format!("must be between 0 and 1 metre, got {}", shown(value)),
             );
         }
     }
@@ -362,6 +410,15 @@ fn check_instruction(text: &str, push: &mut Push) {
     if text.trim().is_empty() {
         push("instruction".into(), "must not be empty".into());
     }
+    // Echoed in messages: an escape sequence or a NUL would reach the terminal.
+    if let Some(c) = text.chars().find(|c| c.is_control() && !c.is_whitespace()) {
+        push(
+            "instruction".into(),
+            format!(
+                "must not contain control characters other than line breaks and tabs, got {c:?}"
+            ),
+        );
+    }
     let chars = text.chars().count();
     if chars > MAX_INSTRUCTION_CHARS {
         push(
@@ -390,7 +447,16 @@ fn check_count(field: &str, count: usize, max: usize, push: &mut Push) {
     }
 }
 
+/// A name, colour, shape, `sensitive` entry or robot model: bounded, and
+/// without control characters (a newline split the summary's lines and the
+/// CSV's rows).
 fn check_text(field: &str, text: &str, push: &mut Push) {
+    if let Some(c) = text.chars().find(|c| c.is_control()) {
+        push(
+            field.into(),
+            format!("must not contain control characters (newline, tab...), got {c:?}"),
+        );
+    }
     let chars = text.chars().count();
     if chars > MAX_NAME_CHARS {
         push(
@@ -405,7 +471,11 @@ fn check_pixel(s: &Scenario, field: &str, [u, v]: [f64; 2], push: &mut Push) {
     if !(u.is_finite() && v.is_finite() && (0.0..w).contains(&u) && (0.0..h).contains(&v)) {
         push(
             field.into(),
-            format!("pixel ({u}, {v}) is outside the {w}x{h} image"),
+            format!(
+                "pixel ({}, {}) is outside the {w}x{h} image",
+                shown(u),
+                shown(v)
+            ),
         );
     }
 }
@@ -417,20 +487,31 @@ fn check_box(s: &Scenario, field: &str, b: PixelBox, push: &mut Push) -> bool {
     let problem = if values.iter().any(|x| !x.is_finite()) {
         "must hold four finite numbers [u, v, w, l]".to_string()
     } else if b.w <= 0.0 || b.l <= 0.0 {
-        format!("width and length must be positive, got w={} l={}", b.w, b.l)
+        format!(
+            "width and length must be positive, got w={} l={}",
+            shown(b.w),
+            shown(b.l)
+        )
     } else if b.w < MIN_BOX_SIDE_PX || b.l < MIN_BOX_SIDE_PX {
         format!(
             "width and length must be at least {MIN_BOX_SIDE_PX} px, got w={:?} l={:?}",
             b.w, b.l
         )
     } else if b.u < 0.0 || b.v < 0.0 || b.u + b.w > w || b.v + b.l > h {
-        format!(
-            "box [{}, {}, {}, {}] is not inside the {w}x{h} image",
-            b.u, b.v, b.w, b.l
-        )
+        let [u, v, bw, bl] = values.map(shown);
+        format!("box [{u}, {v}, {bw}, {bl}] is not inside the {w}x{h} image")
     } else {
         return true;
     };
     push(field.into(), problem);
     false
+}
+
+/// A number as a person reads it: plain (`320`, `-0.1`), but in exponent
+/// form beyond 1e15 (`{}` printed all 301 digits of 1e300).
+fn shown(x: f64) -> String {
+    match x.abs() >= 1e15 {
+        true => format!("{x:e}"),
+        false => format!("{x}"),
+    }
 }
