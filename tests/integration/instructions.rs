@@ -338,6 +338,9 @@ cases! {
         => Error("does not say which objects");
     error_zero: "put zero red squares in the left box", NOWHERE
         => Error("zero");
+    // The hyphen of "-3" was read as a word break, so the count became 3.
+    negative_count_is_not_read_as_its_absolute_value: "put -1 red squares in the left box", NOWHERE
+        => Error("-1");
 
     // ---- Issue 11: negations never do the opposite. ----
     // A whole-instruction negation leaves nothing to do: refused.

@@ -55,16 +55,21 @@ impl Tok {
 }
 
 /// Lower case; "n't" becomes " not"; clause punctuation becomes a comma
-/// token; hyphens and slashes separate words; other symbols are dropped.
+/// token; hyphens and slashes separate words, but a minus sign (a hyphen
+/// starting a word, before a digit) stays, so "-3" is no count; other
+/// symbols are dropped.
 fn normalise(text: &str) -> String {
     let text = text
         .to_lowercase()
         .replace("n't", " not")
         .replace("n’t", " not");
     let mut out = String::with_capacity(text.len());
-    for ch in text.chars() {
+    let mut chars = text.chars().peekable();
+    while let Some(ch) = chars.next() {
+        let starts_word = out.chars().last().is_none_or(char::is_whitespace);
         match ch {
             ',' | ';' | '.' | '!' | '?' | ':' => out.push_str(" , "),
+            '-' if starts_word && chars.peek().is_some_and(char::is_ascii_digit) => out.push('-'),
             '-' | '_' | '/' => out.push(' '),
             c if c.is_alphanumeric() || c.is_whitespace() => out.push(c),
             _ => {}
