@@ -99,7 +99,7 @@ pub(crate) fn check<'a>(
     if points[0].time_from_start != 0.0 {
         return Err(format(format!(
             "points[0].time_from_start is {}: times start at 0",
-            points[0].time_from_start
+            shown(points[0].time_from_start)
         )));
     }
     if let Some(i) =
@@ -107,12 +107,21 @@ pub(crate) fn check<'a>(
     {
         return Err(format(format!(
             "points[{i}].time_from_start is {} after {} at points[{}]: times must strictly increase",
-            points[i].time_from_start,
-            points[i - 1].time_from_start,
+            shown(points[i].time_from_start),
+            shown(points[i - 1].time_from_start),
             i - 1
         )));
     }
     Ok(Checked { target, goal, arm })
+}
+
+/// A number as a person reads it: plain, but in exponent form from 1e15 on
+/// (plain `{}` prints all 301 digits of 1e300).
+fn shown(x: f64) -> String {
+    match x.abs() >= 1e15 {
+        true => format!("{x:e}"),
+        false => format!("{x}"),
+    }
 }
 
 /// True when `v` is a finite number with `|v| <= bound` (false for NaN).
@@ -137,15 +146,17 @@ fn sample(i: usize, p: &Sample, arm: &Arm) -> Result<(), String> {
         }
         if let Some((j, v)) = values.iter().enumerate().find(|(_, v)| !within(**v, bound)) {
             return Err(format!(
-                "points[{i}].{field}[{j}] ({}) is {v}: not a finite value within ±{bound:e}",
-                arm.joint_names[j]
+                "points[{i}].{field}[{j}] ({}) is {}: not a finite value within ±{bound:e}",
+                arm.joint_names[j],
+                shown(*v)
             ));
         }
     }
     let t = p.time_from_start;
     if !(0.0..=MAX_TIME).contains(&t) {
         return Err(format!(
-            "points[{i}].time_from_start is {t}: times lie between 0 and {MAX_TIME:e} s"
+            "points[{i}].time_from_start is {}: times lie between 0 and {MAX_TIME:e} s",
+            shown(t)
         ));
     }
     Ok(())

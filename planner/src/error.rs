@@ -150,7 +150,7 @@ pub enum Refusal {
     GoalFull { goal: String },
     /// The object's footprint is larger than the goal's inside.
     #[error(
-        "{object} ({:.3} m x {:.3} m) does not fit inside the {goal}'s inner walls ({:.3} m x {:.3} m, {clearance_m} m clearance)",
+        "{object} ({:.3} m x {:.3} m) does not fit inside the inner walls of the goal '{goal}' ({:.3} m x {:.3} m, {clearance_m} m clearance)",
         object_m[0], object_m[1], inner_m[0], inner_m[1]
     )]
     DoesNotFitGoal {

@@ -389,3 +389,25 @@ fn every_benchmark_scene_passes_the_bad_input_checks() {
         }
     }
 }
+
+/// `afford check` printed a sample time of 1e300 with all its 301 digits.
+#[test]
+fn check_shows_a_sample_time_of_1e300_in_exponent_form() {
+    let scenario = repo().join("examples/sort-blue-squares.yaml");
+    let dir = scratch_dir("check-time-1e300");
+    let (plan, mut json) = crate::util::plan_to_file(&scenario, &dir);
+    json["subgoals"][0]["trajectory"]["points"][5]["time_from_start"] = serde_json::json!(1e300);
+    std::fs::write(&plan, json.to_string()).expect("write");
+    let run = afford(&[
+        "check",
+        scenario.to_str().expect("UTF-8"),
+        plan.to_str().expect("UTF-8"),
+    ]);
+    run.assert_code(1).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stdout,
+        &["points[5].time_from_start is 1e300"],
+    );
+    assert!(!run.stdout.contains("10000000000"), "{}", run.stdout);
+}

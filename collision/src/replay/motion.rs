@@ -116,7 +116,13 @@ impl ReplayMotion {
             if !(inside(g.t_close) && inside(g.t_open) && g.t_close <= g.t_open) {
                 return Err(path_err(
                     field("grasp"),
-                    "t_close <= t_open must both lie within the motion's times",
+                    format!(
+                        "the gripper closes at {} s and opens at {} s: both must lie within the motion's {} to {} s, the close first",
+                        g.t_close,
+                        g.t_open,
+                        self.times[0],
+                        self.times[n - 1]
+                    ),
                 ));
             }
         }
