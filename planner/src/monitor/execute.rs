@@ -292,7 +292,10 @@ impl Interval<'_> {
         (0..a.positions.len()).all(|j| {
             let share = LIMIT_SHARE * limits.acceleration[j];
             let within = |value: f64, own: f64| value.abs() <= share.max(own.abs() * (1.0 + 1e-9));
-            let (va, vb) = (a.velocities[j] * self.sigma_a, b.velocities[j] * self.sigma_b);
+            let (va, vb) = (
+                a.velocities[j] * self.sigma_a,
+                b.velocities[j] * self.sigma_b,
+            );
             let step = b.positions[j] - a.positions[j];
             let (mean, own_mean) = (step / d, step / h);
             let field = b.accelerations[j] * x + b.velocities[j] * sddot;
@@ -305,8 +308,14 @@ impl Interval<'_> {
             });
             within(field, b.accelerations[j])
                 && within((vb - va) / d, (b.velocities[j] - a.velocities[j]) / h)
-                && within(2.0 * (va - mean) / d, 2.0 * (a.velocities[j] - own_mean) / h)
-                && within(2.0 * (vb - mean) / d, 2.0 * (b.velocities[j] - own_mean) / h)
+                && within(
+                    2.0 * (va - mean) / d,
+                    2.0 * (a.velocities[j] - own_mean) / h,
+                )
+                && within(
+                    2.0 * (vb - mean) / d,
+                    2.0 * (b.velocities[j] - own_mean) / h,
+                )
                 && recomputed
         })
     }

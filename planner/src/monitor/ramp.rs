@@ -12,8 +12,9 @@
 //! time) and executed with the intervals of [`super::execute`]. A stop
 //! ends exactly on a plan sample: its `T` solves `L = T (σ₀/2 + σ̇₀ T/10)`
 //! for the plan time `L` to that sample. Candidates are tried shortest `T`
-//! first, each started after 0 to [`MAX_DELAY`] more samples of the speed
-//! under way (the plan's own jerk sits at the limit during short ramps),
+//! first, each started after 0 or more samples of the speed under way
+//! (the plan's own acceleration or jerk may sit at the limit where `σ`
+//! cannot leave 1), up to riding the plan to its own rest at its end,
 //! and the first whose executed samples pass the check's rules —
 //! [`Interval::passes`] and the jerk as six times the third divided
 //! difference of positions and times over four samples, with the samples
@@ -33,8 +34,6 @@ const FIRST_DURATION_S: f64 = 0.02;
 const DURATION_RATIO: f64 = 1.12;
 /// Ramps tried (the longest ≈ 4 s).
 const DURATIONS: i32 = 48;
-/// Most plan samples a ramp may wait before it starts.
-pub const MAX_DELAY: usize = 10;
 
 /// A change of speed: `σ` at plan samples `first..`, then `target`.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,7 +97,9 @@ impl Quintic {
 
     /// `σ̇`, 1/s.
     fn rate(&self, u: f64) -> f64 {
-        let d = (1..6).rev().fold(0.0, |acc, i| acc * u + i as f64 * self.c[i]);
+        let d = (1..6)
+            .rev()
+            .fold(0.0, |acc, i| acc * u + i as f64 * self.c[i]);
         d / self.duration
     }
 
@@ -145,26 +146,19 @@ pub fn plan(
             return jump;
         }
     }
-    let delays = match going(k) > 0.0 || going(k + 1) > 0.0 {
-        true => MAX_DELAY,
-        false => 0,
-    };
     let (mut without_jerk, mut gentlest) = (None, None);
-    for i in 0..DURATIONS {
-        let duration = FIRST_DURATION_S * DURATION_RATIO.powi(i);
-        for delay in 0..=delays {
-            let Some(ramp) = candidate(motion, cursor, target, delay, duration) else {
-                continue;
-            };
-            if passes(motion, limits, cursor, &ramp, dt, true) {
-                return ramp;
-            }
-            if without_jerk.is_none() && passes(motion, limits, cursor, &ramp, dt, false) {
-                without_jerk = Some(ramp.clone());
-            }
-            if delay == 0 {
-                gentlest = Some(ramp);
-            }
+    for (delay, duration) in candidates(cursor, motion.points.len(), going(k), dt) {
+        let Some(ramp) = candidate(motion, cursor, target, delay, duration) else {
+            continue;
+        };
+        if passes(motion, limits, cursor, &ramp, dt, true) {
+            return ramp;
+        }
+        if without_jerk.is_none() && passes(motion, limits, cursor, &ramp, dt, false) {
+            without_jerk = Some(ramp.clone());
+        }
+        if delay == 0 {
+            gentlest = Some(ramp);
         }
     }
     without_jerk.or(gentlest).unwrap_or_else(|| Ramp {
@@ -173,6 +167,31 @@ pub fn plan(
         sigmas: vec![going(k), going(k + 1)],
         rates: vec![0.0; 2],
     })
+}
+
+/// The (delay, duration) pairs to try, soonest settled first (`delay`
+/// samples at speed `sigma`, then `duration`): delays grow by half up to
+/// the plan's end, none from rest.
+fn candidates(cursor: &Cursor, samples: usize, sigma: f64, dt: f64) -> Vec<(usize, f64)> {
+    let left = samples.saturating_sub(cursor.index + 1);
+    let mut delays = vec![0];
+    if sigma > 0.0 {
+        while delays[delays.len() - 1] < left {
+            let d = delays[delays.len() - 1];
+            delays.push((d + 1).max(d * 3 / 2).min(left));
+        }
+    }
+    let durations = |d: usize| match d < left {
+        true => 0..DURATIONS,
+        false => 0..1,
+    };
+    let mut out: Vec<(usize, f64)> = delays
+        .iter()
+        .flat_map(|&d| durations(d).map(move |i| (d, FIRST_DURATION_S * DURATION_RATIO.powi(i))))
+        .collect();
+    let cost = |&(d, t): &(usize, f64)| d as f64 * dt / sigma.max(1e-3) + t;
+    out.sort_by(|a, b| cost(a).total_cmp(&cost(b)));
+    out
 }
 
 /// The plan rests at the sample: no joint moves or accelerates.
@@ -195,15 +214,21 @@ fn candidate(
 ) -> Option<Ramp> {
     let points = &motion.points;
     let (k, n) = (cursor.index, points.len());
-    let k0 = k + delay;
-    if k0 + 1 >= n {
-        return None;
-    }
+    let k0 = (k + delay).min(n - 1);
     let going = |i: usize| match cursor.ramp() {
         Some(r) => (r.sigma(i), r.rate(i)),
         None => (cursor.sigma, 0.0),
     };
     let (mut sigmas, mut rates): (Vec<f64>, Vec<f64>) = (k..=k0).map(going).unzip();
+    if k0 + 1 >= n {
+        // On at the speed under way to the plan's end, where it rests.
+        return Some(Ramp {
+            target,
+            first: k,
+            sigmas,
+            rates,
+        });
+    }
     let (sigma, rate) = going(k0);
     let start = points[k0].time_from_start;
     let quintic = match target > 0.0 {
