@@ -288,3 +288,70 @@ fn slowing_down_and_back_keeps_the_jerk_limit() {
         }
     }
 }
+
+/// Prints how long each stop of the monitor examples takes and how far
+/// the tool travels from the verdict to rest (stop, wait, abort, and a
+/// replan that brakes). `cargo test --release -p afford-planner --test
+/// monitor -- --ignored --nocapture measure_example_stops`
+#[test]
+#[ignore = "measurement"]
+fn measure_example_stops() {
+    use afford_planner::monitor::{Monitor, timeline};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/monitor");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("examples")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
+        .collect();
+    names.sort();
+    for path in names {
+        let scenario = afford_planner::scenario::load(&path).expect("example");
+        let options = PlanOptions::default();
+        let plan = Planner::new(options.clone()).plan(&scenario).expect("plan");
+        let robot = RobotModel::builtin(&scenario.robot.model).expect("robot");
+        let mut monitor = Monitor::new(plan, &scenario, &options).expect("monitor");
+        timeline::play(&mut monitor, &scenario.observations);
+        let braking = ["stop", "wait", "abort", "replan"];
+        for event in monitor.events().iter().filter(|e| braking.contains(&e.verdict)) {
+            let Some(sub) = monitor
+                .executed()
+                .iter()
+                .rfind(|s| s.start_time <= event.time + 1e-9)
+            else {
+                continue;
+            };
+            let arm = robot.arm(&sub.arm).expect("arm");
+            let points = &sub.trajectory.points;
+            let after = |p: &&afford_planner::timing::TrajectoryPoint| {
+                sub.start_time + p.time_from_start >= event.time - 1e-9
+            };
+            let Some(first) = points.iter().position(|p| after(&p)) else {
+                continue;
+            };
+            let Some(rest) = (first..points.len())
+                .find(|&i| points[i].velocities.iter().all(|v| *v == 0.0))
+            else {
+                continue;
+            };
+            if event.verdict == "replan" && rest + 1 == points.len() {
+                continue;
+            }
+            let start = first.saturating_sub(1);
+            let tool: f64 = points[start..=rest]
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (arm.fk(&w[0].positions), arm.fk(&w[1].positions));
+                    (b.translation.vector - a.translation.vector).norm()
+                })
+                .sum();
+            println!(
+                "{:40} {:7} at {:6.2} s: rest after {:.3} s, tool {:.1} mm",
+                path.file_name().unwrap().to_string_lossy(),
+                event.verdict,
+                event.time,
+                sub.start_time + points[rest].time_from_start - event.time,
+                tool * 1e3
+            );
+        }
+    }
+}
