@@ -189,10 +189,11 @@ fn execute(motion: &TimedMotion, limits: &JointLimits, from: f64, low: f64, rest
     }
 }
 
-/// The largest ratio of jerk to limit over `samples`, every joint: six
-/// times the third divided difference of positions and times over four
-/// samples, two samples at rest before and after (as afford-check does).
-fn largest_jerk_ratio(motion: &TimedMotion, limits: &JointLimits, samples: &[(usize, f64)]) -> f64 {
+/// The largest ratio of jerk to limit over `samples` (positions, time),
+/// every joint: six times the third divided difference of positions and
+/// times over four samples, two samples at rest before and after (as
+/// afford-check does).
+fn largest_jerk_ratio(limits: &JointLimits, samples: &[(&[f64], f64)]) -> f64 {
     let n = samples.len();
     let (first, last) = (
         samples[1].1 - samples[0].1,
@@ -214,13 +215,26 @@ fn largest_jerk_ratio(motion: &TimedMotion, limits: &JointLimits, samples: &[(us
                         .filter(|&m| m != i)
                         .map(|m| w[i].1 - w[m].1)
                         .product();
-                    motion.points[w[i].0].positions[j] / denominator
+                    w[i].0[j] / denominator
                 })
                 .sum();
             worst = worst.max((6.0 * jerk).abs() / limit);
         }
     }
     worst
+}
+
+/// [`largest_jerk_ratio`] of executed plan samples (plan index, time).
+fn executed_jerk_ratio(
+    motion: &TimedMotion,
+    limits: &JointLimits,
+    samples: &[(usize, f64)],
+) -> f64 {
+    let samples: Vec<(&[f64], f64)> = samples
+        .iter()
+        .map(|&(k, t)| (motion.points[k].positions.as_slice(), t))
+        .collect();
+    largest_jerk_ratio(limits, &samples)
 }
 
 /// Plan times spread over the motion at which the command changes.
@@ -248,7 +262,7 @@ fn braking_stop_keeps_every_joint_within_its_jerk_limit() {
                 .position(|&(k, _)| k == run.settled)
                 .expect("rest sample");
             let braking = &run.samples[..stop + 3];
-            let ratio = largest_jerk_ratio(&motion, &limits, braking);
+            let ratio = executed_jerk_ratio(&motion, &limits, braking);
             assert!(
                 ratio <= 1.0 + 1e-6,
                 "{example}: braking from {from:.2} s jerks at {ratio:.3} of the limit"
@@ -264,7 +278,7 @@ fn resume_after_a_stop_keeps_the_jerk_limit() {
         for from in triggers(&motion, 25) {
             for rest in [1, 2, 10] {
                 let run = execute(&motion, &limits, from, 0.0, rest);
-                let ratio = largest_jerk_ratio(&motion, &limits, &run.samples);
+                let ratio = executed_jerk_ratio(&motion, &limits, &run.samples);
                 assert!(
                     ratio <= 1.0 + 1e-6,
                     "{example}: stop at {from:.2} s, {rest} periods at rest, resume: {ratio:.3} of the limit"
@@ -280,7 +294,7 @@ fn slowing_down_and_back_keeps_the_jerk_limit() {
     for from in triggers(&motion, 25) {
         for low in [0.2, 0.6] {
             let run = execute(&motion, &limits, from, low, 5);
-            let ratio = largest_jerk_ratio(&motion, &limits, &run.samples);
+            let ratio = executed_jerk_ratio(&motion, &limits, &run.samples);
             assert!(
                 ratio <= 1.0 + 1e-6,
                 "slow to {low} at {from:.2} s and back: {ratio:.3} of the limit"
@@ -289,9 +303,9 @@ fn slowing_down_and_back_keeps_the_jerk_limit() {
     }
 }
 
-/// Prints how long each stop of the monitor examples takes and how far
-/// the tool travels from the verdict to rest (stop, wait, abort, and a
-/// replan that brakes). `cargo test --release -p afford-planner --test
+/// Prints each monitor example's largest executed jerk ratio, how long
+/// each of its stops takes and how far the tool travels from the verdict
+/// to rest (stop, wait, abort, and a replan that brakes). `cargo test --release -p afford-planner --test
 /// monitor -- --ignored --nocapture measure_example_stops`
 #[test]
 #[ignore = "measurement"]
@@ -311,8 +325,28 @@ fn measure_example_stops() {
         let robot = RobotModel::builtin(&scenario.robot.model).expect("robot");
         let mut monitor = Monitor::new(plan, &scenario, &options).expect("monitor");
         timeline::play(&mut monitor, &scenario.observations);
+        let ratio = monitor
+            .executed()
+            .iter()
+            .filter(|s| s.trajectory.points.len() > 1)
+            .map(|s| {
+                let limits = arm_limits(&robot, robot.arm(&s.arm).expect("arm"));
+                let samples: Vec<(&[f64], f64)> = (s.trajectory.points.iter())
+                    .map(|p| (p.positions.as_slice(), p.time_from_start))
+                    .collect();
+                largest_jerk_ratio(&limits, &samples)
+            })
+            .fold(0.0, f64::max);
+        println!(
+            "{:40} largest executed jerk ratio {ratio:.3}",
+            path.file_name().unwrap().to_string_lossy()
+        );
         let braking = ["stop", "wait", "abort", "replan"];
-        for event in monitor.events().iter().filter(|e| braking.contains(&e.verdict)) {
+        for event in monitor
+            .events()
+            .iter()
+            .filter(|e| braking.contains(&e.verdict))
+        {
             let Some(sub) = monitor
                 .executed()
                 .iter()
@@ -328,8 +362,8 @@ fn measure_example_stops() {
             let Some(first) = points.iter().position(|p| after(&p)) else {
                 continue;
             };
-            let Some(rest) = (first..points.len())
-                .find(|&i| points[i].velocities.iter().all(|v| *v == 0.0))
+            let Some(rest) =
+                (first..points.len()).find(|&i| points[i].velocities.iter().all(|v| *v == 0.0))
             else {
                 continue;
             };
