@@ -68,17 +68,39 @@ impl Ramp {
     }
 }
 
-/// `σ(u) = Σ c_i u^i`, `u = t/T`: from `(σ₀, σ̇₀, 0)` to `(σ*, 0, 0)`.
-struct Quintic {
+/// The shape of a ramp over `u = t/T ∈ [0, 1]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Shape {
+    /// `σ(u) = Σ c_i u^i` from `(σ₀, σ̇₀, 0)` to `(σ*, 0, 0)`.
+    Quintic,
+    /// From `σ̇₀ = 0` only: `σ̇` a trapezoid (up over [`EDGE`] of `T`,
+    /// level, down over `EDGE`), `σ̈` piecewise constant — a flatter
+    /// deceleration than the quintic's for the same peak.
+    Trapezoid,
+}
+
+/// Share of a trapezoidal ramp over which `σ̇` rises (and falls).
+const EDGE: f64 = 0.25;
+
+/// One ramp: `σ(t)` over `t ∈ [0, T]`.
+struct Profile {
+    shape: Shape,
     c: [f64; 6],
+    sigma: f64,
+    delta: f64,
     duration: f64,
 }
 
-impl Quintic {
-    fn new(sigma: f64, rate: f64, target: f64, duration: f64) -> Self {
+impl Profile {
+    /// `None` for a trapezoid that would start with `σ̇₀ ≠ 0`.
+    fn new(shape: Shape, sigma: f64, rate: f64, target: f64, duration: f64) -> Option<Self> {
+        if shape == Shape::Trapezoid && rate != 0.0 {
+            return None;
+        }
         let m = rate * duration;
         let (d, v) = (target - sigma - m, -m);
-        Self {
+        Some(Self {
+            shape,
             c: [
                 sigma,
                 m,
@@ -87,28 +109,41 @@ impl Quintic {
                 7.0 * v - 15.0 * d,
                 6.0 * d - 3.0 * v,
             ],
+            sigma,
+            delta: target - sigma,
             duration,
-        }
+        })
     }
 
     fn sigma(&self, u: f64) -> f64 {
-        self.c.iter().rev().fold(0.0, |acc, c| acc * u + c)
+        match self.shape {
+            Shape::Quintic => self.c.iter().rev().fold(0.0, |acc, c| acc * u + c),
+            Shape::Trapezoid => self.sigma + self.delta * trapezoid(u)[1],
+        }
     }
 
     /// `σ̇`, 1/s.
     fn rate(&self, u: f64) -> f64 {
-        let d = (1..6)
-            .rev()
-            .fold(0.0, |acc, i| acc * u + i as f64 * self.c[i]);
+        let d = match self.shape {
+            Shape::Quintic => (1..6)
+                .rev()
+                .fold(0.0, |acc, i| acc * u + i as f64 * self.c[i]),
+            Shape::Trapezoid => self.delta * trapezoid(u)[2],
+        };
         d / self.duration
     }
 
     /// Plan time covered by `u`, s.
     fn distance(&self, u: f64) -> f64 {
-        let integral = (0..6)
-            .rev()
-            .fold(0.0, |acc, i| acc * u + self.c[i] / (i + 1) as f64);
-        self.duration * integral * u
+        let integral = match self.shape {
+            Shape::Quintic => {
+                u * (0..6)
+                    .rev()
+                    .fold(0.0, |acc, i| acc * u + self.c[i] / (i + 1) as f64)
+            }
+            Shape::Trapezoid => self.sigma * u + self.delta * trapezoid(u)[0],
+        };
+        self.duration * integral
     }
 
     /// The `u` at which plan time `x` has been covered (`σ ≥ 0`).
@@ -122,6 +157,28 @@ impl Quintic {
             }
         }
         0.5 * (lo + hi)
+    }
+}
+
+/// The unit trapezoidal step `g` from 0 to 1 at `u`: `[∫₀ᵘ g, g, g']`.
+fn trapezoid(u: f64) -> [f64; 3] {
+    let (r, p) = (EDGE, 1.0 / (1.0 - EDGE));
+    let rise = |u: f64| [p * u.powi(3) / (6.0 * r), p * u * u / (2.0 * r), p * u / r];
+    let top = rise(r);
+    if u <= r {
+        rise(u)
+    } else if u <= 1.0 - r {
+        let x = u - r;
+        [top[0] + top[1] * x + 0.5 * p * x * x, top[1] + p * x, p]
+    } else {
+        let (x, w) = (1.0 - 2.0 * r, u - (1.0 - r));
+        let level = [top[0] + top[1] * x + 0.5 * p * x * x, top[1] + p * x];
+        let y = r - w;
+        [
+            level[0] + w - p * (r.powi(3) - y.powi(3)) / (6.0 * r),
+            1.0 - p * y * y / (2.0 * r),
+            p * y / r,
+        ]
     }
 }
 
@@ -147,8 +204,8 @@ pub fn plan(
         }
     }
     let (mut without_jerk, mut gentlest) = (None, None);
-    for (delay, duration) in candidates(cursor, motion.points.len(), going(k), dt) {
-        let Some(ramp) = candidate(motion, cursor, target, delay, duration) else {
+    for (delay, duration, shape) in candidates(cursor, motion.points.len(), going(k), dt) {
+        let Some(ramp) = candidate(motion, cursor, target, (delay, duration, shape)) else {
             continue;
         };
         if passes(motion, limits, cursor, &ramp, dt, true) {
@@ -172,7 +229,7 @@ pub fn plan(
 /// The (delay, duration) pairs to try, soonest settled first (`delay`
 /// samples at speed `sigma`, then `duration`): delays grow by half up to
 /// the plan's end, none from rest.
-fn candidates(cursor: &Cursor, samples: usize, sigma: f64, dt: f64) -> Vec<(usize, f64)> {
+fn candidates(cursor: &Cursor, samples: usize, sigma: f64, dt: f64) -> Vec<(usize, f64, Shape)> {
     let left = samples.saturating_sub(cursor.index + 1);
     let mut delays = vec![0];
     if sigma > 0.0 {
@@ -185,11 +242,12 @@ fn candidates(cursor: &Cursor, samples: usize, sigma: f64, dt: f64) -> Vec<(usiz
         true => 0..DURATIONS,
         false => 0..1,
     };
-    let mut out: Vec<(usize, f64)> = delays
+    let mut out: Vec<(usize, f64, Shape)> = delays
         .iter()
         .flat_map(|&d| durations(d).map(move |i| (d, FIRST_DURATION_S * DURATION_RATIO.powi(i))))
+        .flat_map(|(d, t)| [(d, t, Shape::Trapezoid), (d, t, Shape::Quintic)])
         .collect();
-    let cost = |&(d, t): &(usize, f64)| d as f64 * dt / sigma.max(1e-3) + t;
+    let cost = |&(d, t, _): &(usize, f64, Shape)| d as f64 * dt / sigma.max(1e-3) + t;
     out.sort_by(|a, b| cost(a).total_cmp(&cost(b)));
     out
 }
@@ -202,15 +260,14 @@ fn at_rest(p: &TrajectoryPoint) -> bool {
         .all(|v| v.abs() <= 1e-9)
 }
 
-/// `delay` more samples of the speed under way, then the quintic of
-/// `duration` to `target`; `None` when it would leave `[0, 1]`, halt
+/// `delay` more samples of the speed under way, then the ramp of
+/// `shape` and `duration` to `target`; `None` when it would leave `[0, 1]`, halt
 /// before its end or cannot start before the plan ends.
 fn candidate(
     motion: &TimedMotion,
     cursor: &Cursor,
     target: f64,
-    delay: usize,
-    duration: f64,
+    (delay, duration, shape): (usize, f64, Shape),
 ) -> Option<Ramp> {
     let points = &motion.points;
     let (k, n) = (cursor.index, points.len());
@@ -231,8 +288,8 @@ fn candidate(
     }
     let (sigma, rate) = going(k0);
     let start = points[k0].time_from_start;
-    let quintic = match target > 0.0 {
-        true => Quintic::new(sigma, rate, target, duration),
+    let profile = match target > 0.0 {
+        true => Profile::new(shape, sigma, rate, target, duration)?,
         false => {
             let length = duration * (0.5 * sigma + 0.1 * rate * duration);
             if length <= 0.0 {
@@ -247,10 +304,11 @@ fn candidate(
             if root < 0.0 {
                 return None;
             }
-            Quintic::new(sigma, rate, 0.0, 2.0 * length / (0.5 * sigma + root.sqrt()))
+            let duration = 2.0 * length / (0.5 * sigma + root.sqrt());
+            Profile::new(shape, sigma, rate, 0.0, duration)?
         }
     };
-    let total = quintic.distance(1.0);
+    let total = profile.distance(1.0);
     let mut u = 0.0;
     for p in &points[k0 + 1..] {
         let x = p.time_from_start - start;
@@ -261,13 +319,13 @@ fn candidate(
             }
             break;
         }
-        u = quintic.reach(x, u);
-        let s = quintic.sigma(u);
+        u = profile.reach(x, u);
+        let s = profile.sigma(u);
         if !(1e-9..=1.0 + 1e-12).contains(&s) {
             return None;
         }
         sigmas.push(s.min(1.0));
-        rates.push(quintic.rate(u));
+        rates.push(profile.rate(u));
     }
     Some(Ramp {
         target,
