@@ -10,8 +10,8 @@
 //!
 //! with `q'`, `q''` the plan's velocities and accelerations (the discrete
 //! time-optimal parameterisation with `b = σ²`, as in [`crate::timing`]).
-//! A change of speed follows a jerk-limited ramp ([`super::ramp`]): the
-//! sequence of `σ_k` from a quintic `σ(t)`, checked sample by sample with
+//! A change of speed follows a jerk-limited ramp (`ramp.rs`): the
+//! sequence of `σ_k` from a smooth `σ(t)`, checked sample by sample with
 //! the independent check's discrete rules — velocity steps, velocities
 //! consistent with positions, accelerations recomputed from positions
 //! (each within [`LIMIT_SHARE`] of its limit, or no worse than the plan's

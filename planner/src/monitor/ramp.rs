@@ -6,14 +6,15 @@
 //! ```
 //!
 //! so a change of `σ` needs `σ̇` continuous (else the accelerations jump)
-//! and `σ̈` bounded. A ramp is the quintic `σ(t)` from `(σ₀, σ̇₀, 0)` to
-//! `(σ*, 0, 0)` over a duration `T` (`σ̇₀` that of the ramp under way),
+//! and `σ̈` bounded. A ramp over a duration `T` is, from a settled speed,
+//! a trapezoidal `σ̇` ([`Shape::Trapezoid`]), or from any state the quintic
+//! from `(σ₀, σ̇₀, 0)` to `(σ*, 0, 0)` (`σ̇₀` that of the ramp under way),
 //! read at the plan's samples (`s(t) = ∫σ` solved for each sample's plan
 //! time) and executed with the intervals of [`super::execute`]. A stop
 //! ends exactly on a plan sample: its `T` solves `L = T (σ₀/2 + σ̇₀ T/10)`
-//! for the plan time `L` to that sample. Candidates are tried shortest `T`
-//! first, each started after 0 or more samples of the speed under way
-//! (the plan's own acceleration or jerk may sit at the limit where `σ`
+//! for the plan time `L` to that sample. Candidates are tried soonest
+//! settled first, each started after 0 or more samples of the speed under
+//! way (the plan's own acceleration or jerk may sit at the limit where `σ`
 //! cannot leave 1), up to riding the plan to its own rest at its end,
 //! and the first whose executed samples pass the check's rules —
 //! [`Interval::passes`] and the jerk as six times the third divided
