@@ -4,11 +4,14 @@
 //! relevance by construction); planning from a mid-execution state starts
 //! exactly there and carries a held object on without a second grasp.
 
+use std::path::Path;
+
 use afford_kinematics::RobotModel;
 use afford_planner::bench::monitor::{MonitorBenchConfig, run};
 use afford_planner::monitor::execute::{Cursor, step, stopping_point};
 use afford_planner::scenario::default_scenario;
-use afford_planner::trajectory::{GripperCommand, arm_limits};
+use afford_planner::timing::JointLimits;
+use afford_planner::trajectory::{GripperCommand, TimedMotion, arm_limits};
 use afford_planner::{HeldObject, MidExecution, PlanOptions, Planner};
 
 #[test]
@@ -123,4 +126,266 @@ fn monitor_plan_from_holding_carries_on_without_a_second_grasp() {
     let commands: Vec<GripperCommand> = carry.gripper.iter().map(|e| e.command).collect();
     assert_eq!(commands, [GripperCommand::Open], "no second grasp");
     assert_eq!(replanned.start_state.expect("start").positions, joints);
+}
+
+/// The first sub-goal of a monitor example, planned, with its arm's limits.
+fn example_motion(name: &str) -> (TimedMotion, JointLimits) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples/monitor")
+        .join(name);
+    let scenario = afford_planner::scenario::load(&path).expect("example");
+    let plan = Planner::default().plan(&scenario).expect("plan");
+    let sub = &plan.subgoals[0];
+    let robot = RobotModel::builtin(&scenario.robot.model).expect("robot");
+    let arm = robot.arm(sub.arm.as_deref().unwrap()).expect("arm");
+    (
+        sub.trajectory.clone().expect("timed"),
+        arm_limits(&robot, arm),
+    )
+}
+
+const DT: f64 = 0.01;
+
+/// Executed samples (plan index, time) of: full speed until plan time
+/// `from`, then the command `low` until the speed has settled there (at
+/// rest for a stop, then `rest` controller periods more), then full speed
+/// to the end. Also the plan index where the stop was predicted
+/// ([`stopping_point`] when the command came) and where it came to rest.
+struct Run {
+    samples: Vec<(usize, f64)>,
+    predicted: usize,
+    settled: usize,
+}
+
+fn execute(motion: &TimedMotion, limits: &JointLimits, from: f64, low: f64, rest: usize) -> Run {
+    let mut cursor = Cursor::START;
+    let mut t = 0.0;
+    let mut samples = vec![(0, 0.0)];
+    let mut go = |cursor: &Cursor, command: f64, t: &mut f64| {
+        let step = step(motion, limits, cursor, command, DT);
+        *t += step.duration;
+        samples.push((step.cursor.index, *t));
+        step.cursor
+    };
+    let last = motion.points.len() - 1;
+    while cursor.s < from && cursor.index < last {
+        cursor = go(&cursor, 1.0, &mut t);
+    }
+    let predicted = stopping_point(motion, limits, &cursor, DT, 100_000).index;
+    while (cursor.sigma - low).abs() > 1e-12 && cursor.index < last {
+        cursor = go(&cursor, low, &mut t);
+    }
+    let settled = cursor.index;
+    for _ in 0..rest {
+        cursor = go(&cursor, low, &mut t);
+    }
+    while cursor.index < last {
+        cursor = go(&cursor, 1.0, &mut t);
+    }
+    Run {
+        samples,
+        predicted,
+        settled,
+    }
+}
+
+/// The largest ratio of jerk to limit over `samples` (positions, time),
+/// every joint: six times the third divided difference of positions and
+/// times over four samples, two samples at rest before and after (as
+/// afford-check does).
+fn largest_jerk_ratio(limits: &JointLimits, samples: &[(&[f64], f64)]) -> f64 {
+    let n = samples.len();
+    let (first, last) = (
+        samples[1].1 - samples[0].1,
+        samples[n - 1].1 - samples[n - 2].1,
+    );
+    let mut padded = vec![
+        (samples[0].0, samples[0].1 - 2.0 * first),
+        (samples[0].0, samples[0].1 - first),
+    ];
+    padded.extend_from_slice(samples);
+    padded.push((samples[n - 1].0, samples[n - 1].1 + last));
+    padded.push((samples[n - 1].0, samples[n - 1].1 + 2.0 * last));
+    let mut worst: f64 = 0.0;
+    for w in padded.windows(4) {
+        for (j, limit) in limits.jerk.iter().enumerate() {
+            let jerk: f64 = (0..4)
+                .map(|i| {
+                    let denominator: f64 = (0..4)
+                        .filter(|&m| m != i)
+                        .map(|m| w[i].1 - w[m].1)
+                        .product();
+                    w[i].0[j] / denominator
+                })
+                .sum();
+            worst = worst.max((6.0 * jerk).abs() / limit);
+        }
+    }
+    worst
+}
+
+/// [`largest_jerk_ratio`] of executed plan samples (plan index, time).
+fn executed_jerk_ratio(
+    motion: &TimedMotion,
+    limits: &JointLimits,
+    samples: &[(usize, f64)],
+) -> f64 {
+    let samples: Vec<(&[f64], f64)> = samples
+        .iter()
+        .map(|&(k, t)| (motion.points[k].positions.as_slice(), t))
+        .collect();
+    largest_jerk_ratio(limits, &samples)
+}
+
+/// Plan times spread over the motion at which the command changes.
+fn triggers(motion: &TimedMotion, count: usize) -> Vec<f64> {
+    let duration = motion.duration();
+    (1..count)
+        .map(|i| duration * i as f64 / count as f64)
+        .collect()
+}
+
+#[test]
+fn braking_stop_keeps_every_joint_within_its_jerk_limit() {
+    for example in ["hand-approaching.yaml", "cob4-hand-approaching.yaml"] {
+        let (motion, limits) = example_motion(example);
+        assert!(!limits.jerk.is_empty(), "{example}: jerk limits");
+        for from in triggers(&motion, 40) {
+            let run = execute(&motion, &limits, from, 0.0, 3);
+            assert_eq!(
+                run.settled, run.predicted,
+                "{example} from {from:.2} s: rests where the stop was predicted"
+            );
+            let stop = run
+                .samples
+                .iter()
+                .position(|&(k, _)| k == run.settled)
+                .expect("rest sample");
+            let braking = &run.samples[..stop + 3];
+            let ratio = executed_jerk_ratio(&motion, &limits, braking);
+            assert!(
+                ratio <= 1.0 + 1e-6,
+                "{example}: braking from {from:.2} s jerks at {ratio:.3} of the limit"
+            );
+        }
+    }
+}
+
+#[test]
+fn resume_after_a_stop_keeps_the_jerk_limit() {
+    for example in ["hand-approaching.yaml", "cob4-hand-approaching.yaml"] {
+        let (motion, limits) = example_motion(example);
+        for from in triggers(&motion, 25) {
+            for rest in [1, 2, 10] {
+                let run = execute(&motion, &limits, from, 0.0, rest);
+                let ratio = executed_jerk_ratio(&motion, &limits, &run.samples);
+                assert!(
+                    ratio <= 1.0 + 1e-6,
+                    "{example}: stop at {from:.2} s, {rest} periods at rest, resume: {ratio:.3} of the limit"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn slowing_down_and_back_keeps_the_jerk_limit() {
+    let (motion, limits) = example_motion("hand-approaching.yaml");
+    for from in triggers(&motion, 25) {
+        for low in [0.2, 0.6] {
+            let run = execute(&motion, &limits, from, low, 5);
+            let ratio = executed_jerk_ratio(&motion, &limits, &run.samples);
+            assert!(
+                ratio <= 1.0 + 1e-6,
+                "slow to {low} at {from:.2} s and back: {ratio:.3} of the limit"
+            );
+        }
+    }
+}
+
+/// Prints each monitor example's largest executed jerk ratio, how long
+/// each of its stops takes and how far the tool travels from the verdict
+/// to rest (stop, wait, abort, and a replan that brakes). `cargo test --release -p afford-planner --test
+/// monitor -- --ignored --nocapture measure_example_stops`
+#[test]
+#[ignore = "measurement"]
+fn measure_example_stops() {
+    use afford_planner::monitor::{Monitor, timeline};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/monitor");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("examples")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
+        .collect();
+    names.sort();
+    for path in names {
+        let scenario = afford_planner::scenario::load(&path).expect("example");
+        let options = PlanOptions::default();
+        let plan = Planner::new(options.clone()).plan(&scenario).expect("plan");
+        let robot = RobotModel::builtin(&scenario.robot.model).expect("robot");
+        let mut monitor = Monitor::new(plan, &scenario, &options).expect("monitor");
+        timeline::play(&mut monitor, &scenario.observations);
+        let ratio = monitor
+            .executed()
+            .iter()
+            .filter(|s| s.trajectory.points.len() > 1)
+            .map(|s| {
+                let limits = arm_limits(&robot, robot.arm(&s.arm).expect("arm"));
+                let samples: Vec<(&[f64], f64)> = (s.trajectory.points.iter())
+                    .map(|p| (p.positions.as_slice(), p.time_from_start))
+                    .collect();
+                largest_jerk_ratio(&limits, &samples)
+            })
+            .fold(0.0, f64::max);
+        println!(
+            "{:40} largest executed jerk ratio {ratio:.3}",
+            path.file_name().unwrap().to_string_lossy()
+        );
+        let braking = ["stop", "wait", "abort", "replan"];
+        for event in monitor
+            .events()
+            .iter()
+            .filter(|e| braking.contains(&e.verdict))
+        {
+            let Some(sub) = monitor
+                .executed()
+                .iter()
+                .rfind(|s| s.start_time <= event.time + 1e-9)
+            else {
+                continue;
+            };
+            let arm = robot.arm(&sub.arm).expect("arm");
+            let points = &sub.trajectory.points;
+            let after = |p: &&afford_planner::timing::TrajectoryPoint| {
+                sub.start_time + p.time_from_start >= event.time - 1e-9
+            };
+            let Some(first) = points.iter().position(|p| after(&p)) else {
+                continue;
+            };
+            let Some(rest) =
+                (first..points.len()).find(|&i| points[i].velocities.iter().all(|v| *v == 0.0))
+            else {
+                continue;
+            };
+            if event.verdict == "replan" && rest + 1 == points.len() {
+                continue;
+            }
+            let start = first.saturating_sub(1);
+            let tool: f64 = points[start..=rest]
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (arm.fk(&w[0].positions), arm.fk(&w[1].positions));
+                    (b.translation.vector - a.translation.vector).norm()
+                })
+                .sum();
+            println!(
+                "{:40} {:7} at {:6.2} s: rest after {:.3} s, tool {:.1} mm",
+                path.file_name().unwrap().to_string_lossy(),
+                event.verdict,
+                event.time,
+                sub.start_time + points[rest].time_from_start - event.time,
+                tool * 1e3
+            );
+        }
+    }
 }

@@ -103,13 +103,9 @@ pub fn check(files: &[ExecutedFile], robot: &RobotModel) -> Vec<String> {
     files
         .iter()
         .flat_map(|f| {
-            let report = check_plan(&f.scene, robot, &f.file);
-            // The jerk class judges plans: the monitor's speed override (slow
-            // down, stop) does not bound jerk yet (docs/decisions.md).
-            report
+            check_plan(&f.scene, robot, &f.file)
                 .violations
                 .into_iter()
-                .filter(|v| v.class != ViolationClass::Jerk)
                 .map(move |v| format!("executed sub-goal {}: {v}", f.index))
         })
         .collect()

@@ -22,6 +22,7 @@ mod decide;
 mod drive;
 pub mod execute;
 pub mod policy;
+mod ramp;
 pub mod route;
 pub mod separation;
 pub mod timeline;
