@@ -18,7 +18,7 @@ use afford_planner::{JointState, PlanError, PlanOptions, plan};
 use serde::Serialize;
 
 use super::executed::{self, RunReplay};
-use super::output::{csv_header, csv_numbers, emit, render};
+use super::output::{csv_header, csv_numbers, csv_text, emit, render};
 use super::plan::{base_dir, load, load_robot};
 use super::{ExitKind, Failure, OutputFormat, RunArgs};
 
@@ -128,7 +128,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         OutputFormat::Csv => csv(&monitor),
         format => render(&output, format)?,
     };
-    emit(&text, args.output.as_deref())?;
+    // The picture first: a picture that cannot be written leaves no run
+    // file behind either.
     if let Some(svg) = &args.svg {
         let picture = super::run_svg::draw(
             monitor.scene(),
@@ -138,6 +139,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         );
         emit(&picture, Some(svg))?;
     }
+    emit(&text, args.output.as_deref())?;
     exit(reason, &replayed)
 }
 
@@ -235,8 +237,8 @@ fn csv(monitor: &Monitor) -> String {
             }
             out.push_str(&format!(
                 "{time},{k},{},{},{},{},{}\n",
-                s.object,
-                s.arm,
+                csv_text(&s.object),
+                csv_text(&s.arm),
                 s.trajectory.gripper_state(p.time_from_start).name(),
                 here.join(" "),
                 csv_numbers(p)

@@ -180,21 +180,19 @@ fn nothing_planned_still_writes_the_plan_with_typed_refusals() {
 /// behind (the plan was written first, then the run exited 2).
 #[test]
 fn svg_that_cannot_be_written_leaves_no_plan_behind() {
-    let dir = scratch_dir("svg-cannot-be-written");
-    let out = dir.join("plan.json");
-    let svg = dir.join("no-such-folder").join("plan.svg");
-    let run = afford(&[
-        "plan",
-        "--until",
-        "grid",
-        "-o",
-        out.to_str().expect("UTF-8"),
-        "--svg",
-        svg.to_str().expect("UTF-8"),
-    ]);
-    run.assert_code(2).assert_no_panic();
-    assert_contains_all(&run.command, &run.stderr, &["plan.svg", "cannot write"]);
-    assert!(!out.exists(), "{} was written", out.display());
+    for (command, options) in [("plan", &["--until", "grid"][..]), ("run", &[][..])] {
+        let dir = scratch_dir(&format!("svg-cannot-be-written-{command}"));
+        let out = dir.join("out.json");
+        let svg = dir.join("no-such-folder").join("picture.svg");
+        let mut args = vec![command];
+        args.extend_from_slice(options);
+        args.extend(["-o", out.to_str().expect("UTF-8")]);
+        args.extend(["--svg", svg.to_str().expect("UTF-8")]);
+        let run = afford(&args);
+        run.assert_code(2).assert_no_panic();
+        assert_contains_all(&run.command, &run.stderr, &["picture.svg", "cannot write"]);
+        assert!(!out.exists(), "{command}: {} was written", out.display());
+    }
 }
 
 /// `-o` naming a folder: exit 2, and no `FOLDER.partial` left beside it.
@@ -246,18 +244,21 @@ fn csv_fields(line: &str) -> Vec<String> {
 #[test]
 fn csv_row_of_an_object_named_with_a_comma_keeps_its_field_count() {
     let path = fixture("bad-input/object-name-with-a-comma.yaml");
-    let run = afford_with_path(&["plan"], &path, &["--format", "csv"]);
-    run.assert_code(0).assert_no_panic();
-    let mut lines = run.stdout.lines();
-    let columns = csv_fields(lines.next().expect("header")).len();
-    let mut rows = 0;
-    for line in lines {
-        let fields = csv_fields(line);
-        assert_eq!(fields.len(), columns, "{line}");
-        assert_eq!(fields[1], "blue square, \"large\"", "{line}");
-        rows += 1;
+    // The object's name is the second field of a plan's rows, the third of a run's.
+    for (command, field) in [("plan", 1), ("run", 2)] {
+        let run = afford_with_path(&[command], &path, &["--format", "csv"]);
+        run.assert_code(0).assert_no_panic();
+        let mut lines = run.stdout.lines();
+        let columns = csv_fields(lines.next().expect("header")).len();
+        let mut rows = 0;
+        for line in lines {
+            let fields = csv_fields(line);
+            assert_eq!(fields.len(), columns, "{command}: {line}");
+            assert_eq!(fields[field], "blue square, \"large\"", "{command}: {line}");
+            rows += 1;
+        }
+        assert!(rows > 100, "{command}: {rows} rows");
     }
-    assert!(rows > 100, "{rows} rows");
 }
 
 #[test]
