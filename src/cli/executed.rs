@@ -65,7 +65,8 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
             observations: Vec::new(),
             ..s.clone()
         };
-        let scene = from_start(scene);
+        let mut scene = from_start(scene);
+        keep_goal(&mut scene, sub);
         let grasped = scene.object_index(&sub.object).map(|i| &scene.objects[i]);
         let timeline = (sub.scene_at_start.iter().map(|s| (0.0, s)))
             .chain(sub.changes.iter().map(|(t, s)| (*t, s)))
@@ -95,6 +96,24 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
         });
     }
     Ok(out)
+}
+
+/// A sub-goal cut short because its goal left the table ends in a scene
+/// without that goal, which the checker cannot read the sub-goal against:
+/// the goal is taken where it was last seen while the sub-goal ran (the
+/// arm moved toward it there; its walls are obstacles either way).
+fn keep_goal(scene: &mut Scenario, sub: &ExecutedSubgoal) {
+    if scene.goal_index(&sub.goal).is_some() {
+        return;
+    }
+    let seen = sub
+        .scene_at_start
+        .iter()
+        .chain(sub.changes.iter().map(|(_, s)| s));
+    let last = seen
+        .filter_map(|s| s.goal_index(&sub.goal).map(|g| s.goals[g].clone()))
+        .last();
+    scene.goals.extend(last);
 }
 
 /// The independent check of every executed sub-goal: violations, one line

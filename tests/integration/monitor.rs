@@ -436,3 +436,22 @@ fn check_refuses_a_cut_short_subgoal_that_jumps_or_claims_to_be_whole() {
     let found = classes(&whole, "whole.json");
     assert!(found.iter().any(|c| c == "gripper_events"), "{found:?}");
 }
+
+/// Both goal boxes leave the table mid-run: the abort is right, but the
+/// run then failed its own check ("goal 'right box' is not in the
+/// scenario": the cut-short sub-goal was read against the scene at its
+/// end) and wrote nothing.
+#[test]
+fn monitor_goal_gone_mid_run_aborts_and_still_writes_the_checked_timeline() {
+    let result = afford(&["run", "tests/fixtures/monitor/goals-removed-mid-run.yaml"]);
+    result.assert_code(1).assert_no_panic();
+    let json = result.json();
+    assert_eq!(json["outcome"], "aborted");
+    assert_eq!(json["reason"]["kind"], "goal_gone");
+    assert_eq!(reasons(&json), ["goal_gone"]);
+    assert!(
+        !result.stderr.contains("fails the independent check"),
+        "{}",
+        result.stderr
+    );
+}
