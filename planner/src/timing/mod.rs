@@ -84,6 +84,7 @@ pub mod deviation;
 pub mod examples;
 pub mod grid;
 pub mod jerk;
+pub mod ramp;
 pub mod sample;
 pub mod separation;
 pub mod spline;
