@@ -1308,3 +1308,53 @@ fn timing_joint_reversals_from_ik_zigzag() {
     assert!(reversals(&raw, 2) >= 5, "{} reversals", reversals(&raw, 2));
     assert!(sampled_jerk_ratio(&taut, &limits.jerk) <= 1.0 + 1e-6);
 }
+
+/// A short rest-to-rest move that never reaches its speed limit: the
+/// time-optimal profile switches every joint's acceleration from +A to −A
+/// at one point, which the filter alone smooths with a window of 2A/J.
+/// With the profile's peak rounded the acceleration falls at the jerk
+/// limit's rate instead and a window of about A/J (for the jumps at the
+/// rests) is left: the motion ends sooner, every sample still within the
+/// jerk, velocity and acceleration limits.
+#[test]
+fn jerk_limited_profile_ramps_the_acceleration_instead_of_filtering_the_whole_piece() {
+    let path = vec![vec![0.0, 0.0], vec![0.12, 0.3], vec![0.25, 0.6]];
+    let limits = JointLimits {
+        lower: vec![-3.0; 2],
+        upper: vec![3.0; 2],
+        velocity: vec![10.0; 2],
+        acceleration: vec![5.0; 2],
+        jerk: vec![250.0; 2],
+    };
+    let time = |rounds: u32| {
+        let settings = TimingSettings {
+            jerk_ramp_rounds: rounds,
+            ..TimingSettings::default()
+        };
+        time_parameterize(&path, &limits, None, &settings).unwrap()
+    };
+    let (filtered, ramped) = (time(0), time(1));
+    let widest = 2.0 * 5.0 / 250.0;
+    assert_eq!(filtered.stats.jerk_ramp_s, 0.0);
+    assert!(
+        (filtered.stats.jerk_filter_s - widest).abs() < 1e-9,
+        "the filter alone needs its widest window, got {} s",
+        filtered.stats.jerk_filter_s
+    );
+    let (before, after) = (solved(&filtered), solved(&ramped));
+    assert!(
+        ramped.stats.jerk_ramp_s > 0.0 && ramped.stats.jerk_filter_s <= 0.6 * widest,
+        "rounded by {} s, filter {} s",
+        ramped.stats.jerk_ramp_s,
+        ramped.stats.jerk_filter_s
+    );
+    assert!(
+        after.duration() < before.duration() - 0.25 * widest,
+        "ramped {} s against filtered {} s",
+        after.duration(),
+        before.duration()
+    );
+    let ratio = sampled_jerk_ratio(after, &limits.jerk);
+    assert!(ratio <= 1.0 + 1e-6, "jerk {ratio} × its limit");
+    assert_within(after, &limits, 1.0);
+}

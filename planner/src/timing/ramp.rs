@@ -118,6 +118,31 @@ fn lower_hull(x: &[f64], y: &[f64]) -> Vec<usize> {
 mod tests {
     use super::*;
 
+    /// A sharp peak (`b` rising and falling linearly, `a` jumping from +2
+    /// to −2) is rounded into a fall of `a` of at most `c Δs / 2` a grid
+    /// point, stays below `b`, and is left as it is away from the peak.
+    #[test]
+    fn rounded_falls_bound_the_fall_of_the_path_acceleration() {
+        let n = 100;
+        let grid = PathGrid {
+            s: (0..=n).map(|k| k as f64 / n as f64).collect(),
+            piece: vec![0; n],
+        };
+        let b: Vec<f64> = grid.s.iter().map(|s| 4.0 * s.min(1.0 - s)).collect();
+        let c = 40.0;
+        let rounded = rounded_falls(&grid, &b, &vec![c; n + 1]);
+        let step = 1.0 / n as f64;
+        for k in 1..n {
+            assert!(rounded[k] <= b[k] + 1e-12);
+            let fall = (rounded[k + 1] - 2.0 * rounded[k] + rounded[k - 1]) / (2.0 * step);
+            assert!(fall >= -0.5 * c * step - 1e-9, "a falls by {fall} at {k}");
+        }
+        assert!(rounded[n / 2] < b[n / 2] - 1e-3, "the peak is not rounded");
+        for k in (0..=n).filter(|k| k.abs_diff(n / 2) > 10) {
+            assert!((rounded[k] - b[k]).abs() < 1e-12, "changed at {k}");
+        }
+    }
+
     #[test]
     fn lower_hull_skips_points_above_the_chords() {
         let x = [0.0, 1.0, 2.0, 3.0, 4.0];
