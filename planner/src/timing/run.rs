@@ -1009,12 +1009,12 @@ fn capped_rows(rows: &SegmentRows, cap: &[f64]) -> SegmentRows {
         rows: Vec::with_capacity(rows.rows.len() + n),
     };
     capped.offsets.push(0);
-    for i in 0..n {
+    for (i, (range, most)) in rows.offsets.windows(2).zip(cap).enumerate() {
         capped
             .rows
-            .extend_from_slice(&rows.rows[rows.offsets[i]..rows.offsets[i + 1]]);
+            .extend_from_slice(&rows.rows[range[0]..range[1]]);
         if i > 0 {
-            capped.rows.push((1.0 / cap[i], 0.0));
+            capped.rows.push((1.0 / most, 0.0));
         }
         capped.offsets.push(capped.rows.len());
     }
