@@ -19,9 +19,10 @@
 //! minorant (`g + φ` convex ⇔ `g'' ≥ −c`; the largest convex function
 //! below `b* + φ` is its lower convex hull). On the grid `φ` is summed with
 //! the discrete second difference, the hull is Andrew's monotone chain,
-//! `O(N)`. `ṡ` is taken from `b*`, an upper bound on every profile's, so
-//! `c` is the tighter one. The rises of `a` (from rest, into the end's rest,
-//! out of a dip of the speed limit) are left to the filter: the greatest
+//! `O(N)`. `ṡ` is taken from a given profile (`b*` in the first round, an
+//! upper bound on every profile's, so `c` is the tighter one). The rises
+//! of `a` (from rest, into the end's rest, into and out of a dip of the
+//! speed limit) are left to the filter: the greatest
 //! profile with `b'' ≤ c` does not exist (the bound is not lattice-closed),
 //! so a rise needs a non-convex program. The profile is then timed again
 //! with `b ≤ g` as one more row per grid point, which keeps every other
@@ -35,8 +36,9 @@ use super::spline::PiecewiseCubic;
 const LEAST_SPEED: f64 = 0.05;
 
 /// The rounded profile `g ≤ b*` on `grid`: `b_star[k] = b*(s_k)` (1/s²),
-/// `jerk` the joints' limits (rad/s³), `kappa ∈ (0, 1]` the share of them
-/// the path acceleration's fall may use.
+/// `speeds[k]` the `ṡ²` at which `c` is evaluated (1/s²), `jerk` the
+/// joints' limits (rad/s³), `kappa ∈ (0, 1]` the share of them the path
+/// acceleration's fall may use. `g[k] ∈ [0, b*_k]`, one per grid point.
 pub fn rounded_peaks(
     spline: &PiecewiseCubic,
     grid: &PathGrid,

@@ -370,7 +370,7 @@ pub struct SolveStats {
     /// Refinement rounds run after the first solve.
     pub refinements: u32,
     /// Width of the jerk filter, seconds: the motion lasts this much
-    /// longer than the time-optimal profile (0 without jerk limits).
+    /// longer than its profile (0 without jerk limits).
     pub jerk_filter_s: f64,
     /// How much longer the profile is than the time-optimal one, seconds,
     /// where its accelerations were lowered around switches for a narrower
