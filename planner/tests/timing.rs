@@ -1112,6 +1112,9 @@ fn measure_example_subgoals() {
     if let Ok(budget) = std::env::var("AFFORD_TAUT_BUDGET_M") {
         options.timing.taut_tool_budget_m = budget.parse().unwrap();
     }
+    if let Ok(rounds) = std::env::var("AFFORD_JERK_RAMP_ROUNDS") {
+        options.timing.jerk_ramp_rounds = rounds.parse().unwrap();
+    }
     for f in afford_planner::timing::examples::measure_examples(&options) {
         println!(
             "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s)  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",
@@ -1243,10 +1246,10 @@ fn timing_jerk_from_bang_bang_switches() {
     assert!(ratio <= 1.0 + 1e-6, "jerk {ratio} × its limit");
     assert_within(after, &limited, 1.0);
     let added = after.duration() - before.duration();
+    let (filter, ramp) = (timing.stats.jerk_filter_s, timing.stats.jerk_ramp_s);
     assert!(
-        (0.0..=0.04 + 1e-9).contains(&added) && (added - timing.stats.jerk_filter_s).abs() < 1e-9,
-        "the filter added {added} s (width {} s)",
-        timing.stats.jerk_filter_s
+        (0.0..=0.04 + 1e-9).contains(&added) && (added - filter - ramp).abs() < 1e-9,
+        "the filter and the rounded peaks added {added} s (width {filter} s, profile {ramp} s)",
     );
 }
 
@@ -1304,4 +1307,54 @@ fn timing_joint_reversals_from_ik_zigzag() {
     assert_eq!(reversals(&taut, 2), 0, "the wrist still reverses");
     assert!(reversals(&raw, 2) >= 5, "{} reversals", reversals(&raw, 2));
     assert!(sampled_jerk_ratio(&taut, &limits.jerk) <= 1.0 + 1e-6);
+}
+
+/// A short rest-to-rest move that never reaches its speed limit: the
+/// time-optimal profile switches every joint's acceleration from +A to −A
+/// at one point, which the filter alone smooths with a window of 2A/J.
+/// With the profile's peak rounded the acceleration falls at the jerk
+/// limit's rate instead and a window of about A/J (for the jumps at the
+/// rests) is left: the motion ends sooner, every sample still within the
+/// jerk, velocity and acceleration limits.
+#[test]
+fn jerk_limited_profile_ramps_the_acceleration_instead_of_filtering_the_whole_piece() {
+    let path = vec![vec![0.0, 0.0], vec![0.12, 0.3], vec![0.25, 0.6]];
+    let limits = JointLimits {
+        lower: vec![-3.0; 2],
+        upper: vec![3.0; 2],
+        velocity: vec![10.0; 2],
+        acceleration: vec![5.0; 2],
+        jerk: vec![250.0; 2],
+    };
+    let time = |rounds: u32| {
+        let settings = TimingSettings {
+            jerk_ramp_rounds: rounds,
+            ..TimingSettings::default()
+        };
+        time_parameterize(&path, &limits, None, &settings).unwrap()
+    };
+    let (filtered, ramped) = (time(0), time(1));
+    let widest = 2.0 * 5.0 / 250.0;
+    assert_eq!(filtered.stats.jerk_ramp_s, 0.0);
+    assert!(
+        (filtered.stats.jerk_filter_s - widest).abs() < 1e-9,
+        "the filter alone needs its widest window, got {} s",
+        filtered.stats.jerk_filter_s
+    );
+    let (before, after) = (solved(&filtered), solved(&ramped));
+    assert!(
+        ramped.stats.jerk_ramp_s > 0.0 && ramped.stats.jerk_filter_s <= 0.6 * widest,
+        "rounded by {} s, filter {} s",
+        ramped.stats.jerk_ramp_s,
+        ramped.stats.jerk_filter_s
+    );
+    assert!(
+        after.duration() < before.duration() - 0.25 * widest,
+        "ramped {} s against filtered {} s",
+        after.duration(),
+        before.duration()
+    );
+    let ratio = sampled_jerk_ratio(after, &limits.jerk);
+    assert!(ratio <= 1.0 + 1e-6, "jerk {ratio} × its limit");
+    assert_within(after, &limits, 1.0);
 }

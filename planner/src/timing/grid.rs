@@ -107,7 +107,7 @@ impl PathGrid {
 
 /// Monomial coefficients in `θ` of `q'_j` (degree 2) and `q''_j` (degree 1)
 /// on segment `i`.
-fn derivatives_on_segment(
+pub fn derivatives_on_segment(
     spline: &PiecewiseCubic,
     grid: &PathGrid,
     i: usize,

@@ -85,6 +85,7 @@ pub mod examples;
 pub mod grid;
 pub mod jerk;
 pub mod jerk_floor;
+pub mod ramp;
 pub mod sample;
 pub mod separation;
 pub mod spline;

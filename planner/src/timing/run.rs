@@ -6,13 +6,13 @@ use serde::{Deserialize, Serialize};
 
 use super::deviation::{ToolFk, ToolPathCheck, narrow_radii};
 use super::grid::{self, PathGrid};
-use super::jerk;
 use super::sample::{self, JointTrajectory, LimitKind, LimitViolation, SpeedProfile};
 use super::separation::{Hand, SeparationSettings, nearest_hand_distance};
 use super::spline::{PiecewiseCubic, chord_knots, widest_radii};
 use super::taut;
 use super::tool_speed::{self, Excess, ToolSpeedCheck};
 use super::topp::{self, ProfileSolution, Program, ProgramSettings, SegmentRows, SolverOutcome};
+use super::{jerk, ramp};
 
 /// Per-joint limits of one arm.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -111,6 +111,14 @@ pub struct TimingSettings {
     /// checked against the rule's cap and the caps are lowered where it is
     /// over ([`tool_speed`](super::tool_speed)); the margin makes that rare.
     pub tool_speed_margin: f64,
+    /// With jerk limits, rounds of timing the path again below the
+    /// time-optimal profile with its peaks rounded, so that the path
+    /// acceleration falls at a jerk-limited rate where it switches
+    /// ([`ramp`](super::ramp)), 1 (a second round gains nothing on the
+    /// examples); the rounded profile is kept when it and its narrowest
+    /// filter end sooner than the time-optimal one with its own. 0: the
+    /// filter alone.
+    pub jerk_ramp_rounds: u32,
 }
 
 impl Default for TimingSettings {
@@ -131,6 +139,7 @@ impl Default for TimingSettings {
             solver_tolerance: 1e-7,
             max_tool_deviation_m: 0.005,
             tool_speed_margin: 0.02,
+            jerk_ramp_rounds: 1,
         }
     }
 }
@@ -361,8 +370,12 @@ pub struct SolveStats {
     /// Refinement rounds run after the first solve.
     pub refinements: u32,
     /// Width of the jerk filter, seconds: the motion lasts this much
-    /// longer than the time-optimal profile (0 without jerk limits).
+    /// longer than its profile (0 without jerk limits).
     pub jerk_filter_s: f64,
+    /// How much longer the profile is than the time-optimal one, seconds,
+    /// where its accelerations were lowered around switches for a narrower
+    /// filter (0 when the time-optimal profile was kept).
+    pub jerk_ramp_s: f64,
     /// Times the path was timed again with the hands' caps lowered where
     /// the tool was over one (0 without hands or when none was).
     pub tool_speed_rounds: u32,
@@ -569,7 +582,8 @@ fn time_path(
     let mut shape = CapShape::default();
     let mut round = 0;
     loop {
-        let (mut timing, excess) = finish(&inputs, solve_refined(&inputs, &shape)?)?;
+        let solved = solve_refined(&inputs, &shape)?;
+        let (mut timing, excess) = finish(&inputs, ramp_at_switches(&inputs, solved))?;
         timing.stats.tool_speed_rounds = round;
         let over = matches!(
             timing.status,
@@ -721,7 +735,12 @@ fn solve_refined(inputs: &Inputs, shape: &CapShape) -> Result<(Solved, u32), Tim
 /// sample; also every sample interval where the tool is over a hand's cap.
 fn finish(
     inputs: &Inputs,
-    (solved, rounds): (Solved, u32),
+    Ramped {
+        solved,
+        rounds,
+        narrow,
+        ramp_s,
+    }: Ramped,
 ) -> Result<(Timing, Vec<Excess>), TimingError> {
     let Inputs {
         spline,
@@ -750,6 +769,7 @@ fn finish(
         solve_time_s: solution.solve_time_s,
         refinements: rounds,
         jerk_filter_s: 0.0,
+        jerk_ramp_s: ramp_s,
         tool_speed_rounds: 0,
         total_time_s: 0.0,
     };
@@ -775,11 +795,7 @@ fn finish(
     let acceleration: Vec<f64> = limits.acceleration.iter().map(|a| a * k * k).collect();
     // The filter keeps the jerk within the limits less the program's margin,
     // so the samples stay strictly inside them whatever the rounding.
-    let jerk_kept: Vec<f64> = limits
-        .jerk
-        .iter()
-        .map(|j| j * (1.0 - settings.limit_margin))
-        .collect();
+    let jerk_kept = jerk_kept(limits, settings);
     let widest = jerk::jerk_bound_width(&program.acc, &jerk_kept).unwrap_or(0.0);
     let samples = ((profile.duration() + widest) * settings.rate_hz).ceil() + 1.0;
     if !samples.is_finite() || samples > MAX_SAMPLES as f64 {
@@ -800,7 +816,6 @@ fn finish(
     };
     // The narrowest filter found on the profile, then (should its samples
     // break a limit) the width that bounds every joint's jerk.
-    let narrow = jerk::filter_width(spline, &profile, &program.acc, &jerk_kept);
     let mut widths = vec![narrow];
     if widest > narrow {
         widths.push(widest);
@@ -879,6 +894,131 @@ fn finish(
         separation,
     };
     Ok((timing, excess))
+}
+
+/// The jerk limits the filter keeps: the limits less the program's margin,
+/// so the samples stay strictly inside them whatever the rounding.
+fn jerk_kept(limits: &JointLimits, settings: &TimingSettings) -> Vec<f64> {
+    limits
+        .jerk
+        .iter()
+        .map(|j| j * (1.0 - settings.limit_margin))
+        .collect()
+}
+
+/// A solved profile with the narrowest jerk filter found for it.
+struct Ramped {
+    solved: Solved,
+    /// Refinement rounds run.
+    rounds: u32,
+    /// The narrowest filter width whose probes keep the jerk, seconds.
+    narrow: f64,
+    /// How much longer the profile is than the time-optimal one, seconds.
+    ramp_s: f64,
+}
+
+/// The time-optimal profile with its narrowest jerk filter, or (with jerk
+/// limits and `settings.jerk_ramp_rounds > 0`) the same lattice rows with
+/// `b ≤ g`, `g` the time-optimal profile with its peaks rounded
+/// ([`ramp::rounded_peaks`], each round at the last profile's speeds),
+/// whichever ends sooner with its own narrowest filter. Every one keeps
+/// every limit the lattice rows bound; the samples of the one kept are
+/// checked as every profile's are.
+fn ramp_at_switches(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Ramped {
+    let Inputs {
+        spline,
+        program,
+        limits,
+        settings,
+        ..
+    } = *inputs;
+    let kept = jerk_kept(limits, settings);
+    let width = |solved: &Solved| {
+        let profile = SpeedProfile::new(&solved.grid, &solved.solution.b);
+        jerk::filter_width(spline, &profile, &program.acc, &kept)
+    };
+    let plain = if solved.usable() { width(&solved) } else { 0.0 };
+    if settings.jerk_ramp_rounds == 0 || plain == 0.0 {
+        return Ramped {
+            solved,
+            rounds,
+            narrow: plain,
+            ramp_s: 0.0,
+        };
+    }
+    let optimal = solved.duration();
+    let program_settings = ProgramSettings {
+        program: settings.program,
+        smoothing_weight: settings.smoothing_weight,
+        max_iterations: settings.max_iterations,
+        tolerance: settings.solver_tolerance,
+    };
+    let mut speeds = solved.solution.b.clone();
+    let mut ramped: Option<Ramped> = None;
+    for _ in 0..settings.jerk_ramp_rounds {
+        let rounded = ramp::rounded_peaks(
+            spline,
+            &solved.grid,
+            &solved.solution.b,
+            &speeds,
+            &kept,
+            RAMP_SHARE,
+        );
+        let rows = capped_rows(&solved.rows, &rounded);
+        let solution = topp::solve_profile(&solved.grid, &rows, &program_settings);
+        if !usable(&solution) {
+            break;
+        }
+        let candidate = Solved {
+            grid: solved.grid.clone(),
+            rows,
+            solution,
+            tool: solved.tool.clone(),
+        };
+        let narrow = width(&candidate);
+        let ramp_s = candidate.duration() - optimal;
+        speeds.clone_from(&candidate.solution.b);
+        let so_far = ramped.as_ref().map_or(plain, |r| r.ramp_s + r.narrow);
+        if ramp_s + narrow < so_far {
+            ramped = Some(Ramped {
+                solved: candidate,
+                rounds,
+                narrow,
+                ramp_s,
+            });
+        }
+    }
+    ramped.unwrap_or(Ramped {
+        solved,
+        rounds,
+        narrow: plain,
+        ramp_s: 0.0,
+    })
+}
+
+/// The share of each joint's jerk limit the path acceleration's fall may
+/// use at a rounded peak: the rest is for the grid's steps (the fall is a
+/// staircase of one step a segment), taken up by the filter.
+const RAMP_SHARE: f64 = 0.75;
+
+/// `rows` with `b_i ≤ cap_i` added at every inner grid point `i`.
+fn capped_rows(rows: &SegmentRows, cap: &[f64]) -> SegmentRows {
+    let n = rows.offsets.len() - 1;
+    let mut capped = SegmentRows {
+        offsets: Vec::with_capacity(n + 1),
+        rows: Vec::with_capacity(rows.rows.len() + n),
+    };
+    capped.offsets.push(0);
+    for (i, (range, most)) in rows.offsets.windows(2).zip(cap).enumerate() {
+        capped
+            .rows
+            .extend_from_slice(&rows.rows[range[0]..range[1]]);
+        if i > 0 {
+            capped.rows.push((1.0 / most, 0.0));
+        }
+        capped.offsets.push(capped.rows.len());
+    }
+    capped
 }
 
 fn validate_input(
@@ -1108,6 +1248,7 @@ struct Solved {
 }
 
 /// The tool-speed cap of every segment near hands.
+#[derive(Clone)]
 struct ToolCaps {
     /// Cap the program keeps, m/s.
     caps: Vec<f64>,
@@ -1296,6 +1437,7 @@ fn at_rest(q: &[f64], started: Instant) -> Timing {
             solve_time_s: 0.0,
             refinements: 0,
             jerk_filter_s: 0.0,
+            jerk_ramp_s: 0.0,
             tool_speed_rounds: 0,
             total_time_s: started.elapsed().as_secs_f64(),
         },
