@@ -1117,7 +1117,7 @@ fn measure_example_subgoals() {
     }
     for f in afford_planner::timing::examples::measure_examples(&options) {
         println!(
-            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s)  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",
+            "{:>28} [{}] {:>8.4} s ref {:>8.4} s ratio {:.4} (no jerk {:.4}, jerk cost {:.3} s, floor {:.3} s, to floor {:.4})  timing {:>6.2} ms  reversals {:>2} ({})  jerk {:>8.0} ({}) ratio {:.3}",
             f.example,
             f.subgoal,
             f.duration_s,
@@ -1125,6 +1125,8 @@ fn measure_example_subgoals() {
             f.ratio_to_optimal,
             f.ratio_without_jerk,
             f.jerk_cost_s,
+            f.jerk_floor_s,
+            f.ratio_to_jerk_floor,
             f.timing_ms,
             f.max_velocity_reversals,
             f.reversal_joint,

@@ -95,6 +95,16 @@ pub struct TimingBenchReport {
     /// time-optimal one on the same path and limits (see
     /// [`examples`](super::examples)).
     pub max_ratio_to_optimal_examples: f64,
+    /// Largest moving time of an example sub-goal over the converged
+    /// optimum plus the least time any jerk-limited timing must add
+    /// ([`jerk_floor`](super::jerk_floor)): bounds the ratio to the
+    /// jerk-limited optimum from above.
+    pub max_ratio_to_jerk_floor: f64,
+    /// Example sub-goals within 3 % of the converged optimum without jerk
+    /// limits (`ratio_to_optimal`), and within 3 % of it plus the jerk
+    /// floor (`ratio_to_jerk_floor`).
+    pub within_3_percent: usize,
+    pub within_3_percent_of_jerk_floor: usize,
     /// The same timed without the jerk limits (the discretisation's share).
     pub max_ratio_without_jerk: f64,
     /// Largest cost of the jerk limit on one example sub-goal, seconds.
@@ -152,6 +162,18 @@ pub fn timing_benchmark(bench: &TimingBenchSettings) -> TimingBenchReport {
             .iter()
             .map(|f| f.ratio_to_optimal)
             .fold(f64::NAN, f64::max),
+        max_ratio_to_jerk_floor: examples
+            .iter()
+            .map(|f| f.ratio_to_jerk_floor)
+            .fold(f64::NAN, f64::max),
+        within_3_percent: examples
+            .iter()
+            .filter(|f| f.ratio_to_optimal <= 1.03)
+            .count(),
+        within_3_percent_of_jerk_floor: examples
+            .iter()
+            .filter(|f| f.ratio_to_jerk_floor <= 1.03)
+            .count(),
         max_ratio_without_jerk: examples
             .iter()
             .map(|f| f.ratio_without_jerk)

@@ -19,6 +19,7 @@ use afford_kinematics::RobotModel;
 use serde::Serialize;
 
 use super::jerk::sample_jerk;
+use super::jerk_floor::piece_jerk_floor;
 use super::run::JointLimits;
 use super::run::TimingSettings;
 use super::trajectory::{
@@ -161,6 +162,13 @@ pub struct SubgoalFigures {
     pub reference_s: f64,
     /// `duration_s / reference_s`.
     pub ratio_to_optimal: f64,
+    /// Least time any jerk-limited timing of the same path must add to
+    /// `reference_s` ([`jerk_floor`](super::jerk_floor), from the
+    /// reference's samples), seconds.
+    pub jerk_floor_s: f64,
+    /// `duration_s / (reference_s + jerk_floor_s)`: an upper bound on the
+    /// ratio to the jerk-limited optimum (to the reference's convergence).
+    pub ratio_to_jerk_floor: f64,
     /// The moving time timed (default settings) without the jerk limits,
     /// over `reference_s`: the discretisation's share of the ratio.
     pub ratio_without_jerk: f64,
@@ -270,7 +278,13 @@ fn measure_subgoal(
         jerk: Vec::new(),
         ..arm_limits(robot, arm)
     };
+    let jerk_limits: Vec<f64> = arm
+        .joint_indices
+        .iter()
+        .map(|&i| robot.joints()[i].jerk)
+        .collect();
     let (mut duration_s, mut reference_s, mut timing_ms, mut without_jerk_s) = (0.0, 0.0, 0.0, 0.0);
+    let mut jerk_floor_s = 0.0;
     for piece in pieces(&request) {
         let started = Instant::now();
         let timed = time_piece(&request, piece, settings).ok()?;
@@ -281,20 +295,23 @@ fn measure_subgoal(
             .duration()?;
         // The reference is the converged time-optimal profile under the
         // velocity, acceleration and hand-speed limits.
-        let mut optimal = f64::INFINITY;
+        // Its samples bound what the jerk limits must cost ([`jerk_floor`]).
+        let mut optimal = (f64::INFINITY, 0.0);
         for settings in &reference {
             let timed = time_piece_within(&request, piece, settings, &no_jerk).ok()?;
-            optimal = optimal.min(timed.duration()?);
+            let duration = timed.duration()?;
+            if duration < optimal.0 {
+                optimal = (
+                    duration,
+                    piece_jerk_floor(timed.trajectory.as_ref()?, &jerk_limits),
+                );
+            }
         }
-        reference_s += optimal;
+        reference_s += optimal.0;
+        jerk_floor_s += optimal.1;
     }
     let jerk_cost_s = duration_s - without_jerk_s;
     let (max_velocity_reversals, reversal_joint) = most_reversals(trajectory);
-    let jerk_limits: Vec<f64> = arm
-        .joint_indices
-        .iter()
-        .map(|&i| robot.joints()[i].jerk)
-        .collect();
     let (jerk_ratio, _) = peak_jerk(trajectory, Some(&jerk_limits));
     let (peak_jerk, jerk_joint) = peak_jerk(trajectory, None);
     Some(SubgoalFigures {
@@ -303,6 +320,8 @@ fn measure_subgoal(
         duration_s,
         reference_s,
         ratio_to_optimal: duration_s / reference_s,
+        jerk_floor_s,
+        ratio_to_jerk_floor: duration_s / (reference_s + jerk_floor_s),
         ratio_without_jerk: without_jerk_s / reference_s,
         jerk_cost_s,
         timing_ms,

@@ -598,9 +598,12 @@ fn time_path(
             return Ok(timing);
         }
         match &timing.profile {
-            Some(profile) if timing.stats.jerk_filter_s > 0.0 && shape.widen == 0.0 => {
-                shape.widen =
-                    timing.stats.jerk_filter_s * profile.s_dot.iter().copied().fold(0.0, f64::max);
+            Some(profile) if timing.stats.jerk_filter_s > 0.0 && shape.window.is_none() => {
+                shape.window = Some(FilterWindow {
+                    s: profile.s.clone(),
+                    t: profile.t.clone(),
+                    tau: WINDOW_SLACK * timing.stats.jerk_filter_s,
+                });
             }
             _ => shape.lower(&excess, program.tool_shrink),
         }
@@ -621,11 +624,16 @@ const LOWER_SLACK: f64 = 2e-3;
 /// down without end (the rounds then end in a `LimitViolated` status).
 const LOWEST_CUT: f64 = 0.5;
 
+/// The filter's window is taken this much wider than the width it had
+/// when the caps are lowered for it (the path timed again may filter wider).
+const WINDOW_SLACK: f64 = 1.25;
+
 /// How the hands' caps are lowered below the rule's.
 #[derive(Debug, Default)]
 struct CapShape {
-    /// Every segment's cap to the smallest within this path length, 0: none.
-    widen: f64,
+    /// Each segment's cap to the smallest over the stretch of path the jerk
+    /// filter mixes into its samples; none before the first filter.
+    window: Option<FilterWindow>,
     /// At most this cap, m/s, on the segments the stretch `[s_lo, s_hi]`
     /// touches.
     cuts: Vec<((f64, f64), f64)>,
@@ -667,6 +675,41 @@ impl CapShape {
             }
         }
         grid.split(|i| parts[i])
+    }
+}
+
+/// Where the jerk filter mixes speeds: a sample at time `t` averages the
+/// path over `[t − τ, t]`, so every sample that averages a point of the
+/// stretch `[lo, hi]` averages only path the profile crosses within `τ`
+/// before `lo` or after `hi`. Read on the profile timed before the caps
+/// are lowered: lowered caps only lower the time-optimal profile, so the
+/// stretch found covers the one the slower motion mixes, with
+/// [`WINDOW_SLACK`] for a wider filter. Where the motion timed again is
+/// still over a cap (a rounded peak moved, say), the samples' check finds
+/// it and the cuts of [`CapShape::lower`] follow, as before.
+#[derive(Debug)]
+struct FilterWindow {
+    /// The earlier profile's grid points and their times (s, seconds).
+    s: Vec<f64>,
+    t: Vec<f64>,
+    /// The window, seconds.
+    tau: f64,
+}
+
+impl FilterWindow {
+    /// The path the filter mixes into samples on `[lo, hi]`, whole
+    /// segments of the earlier profile's grid outward.
+    fn stretch(&self, lo: f64, hi: f64) -> (f64, f64) {
+        let last = self.s.len() - 1;
+        let at_or_before =
+            |values: &[f64], x: f64| values.partition_point(|&v| v <= x).saturating_sub(1);
+        let at_or_after = |values: &[f64], x: f64| values.partition_point(|&v| v < x).min(last);
+        let t_lo = self.t[at_or_before(&self.s, lo)] - self.tau;
+        let t_hi = self.t[at_or_after(&self.s, hi)] + self.tau;
+        (
+            self.s[at_or_before(&self.t, t_lo)],
+            self.s[at_or_after(&self.t, t_hi)],
+        )
     }
 }
 
@@ -1191,18 +1234,10 @@ fn tool_caps(
         rises.push(rule.tool_speed_cap(farthest) > cap);
     }
     let limits = caps.clone();
-    let widen = shape.widen;
-    if widen > 0.0 {
+    if let Some(window) = &shape.window {
         for (i, cap) in caps.iter_mut().enumerate() {
-            let from = grid
-                .s
-                .partition_point(|&s| s < grid.s[i] - widen)
-                .saturating_sub(1);
-            let to = grid.s.partition_point(|&s| s <= grid.s[i + 1] + widen);
-            *cap = limits[from..to.min(limits.len())]
-                .iter()
-                .copied()
-                .fold(*cap, f64::min);
+            let mixed = touched(grid, window.stretch(grid.s[i], grid.s[i + 1]));
+            *cap = limits[mixed].iter().copied().fold(*cap, f64::min);
         }
     }
     shape.cut(grid, &mut caps);
