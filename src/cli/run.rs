@@ -82,7 +82,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     })?;
     let mut monitor = Monitor::new(planned, &scenario, &options)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
-    timeline::play(&mut monitor, &scenario.observations);
+    let delivered = timeline::play(&mut monitor, &scenario.observations);
+    if delivered < scenario.observations.len() {
+        eprintln!(
+            "afford run: observations[{delivered}..{}] never came due: the run ended first",
+            scenario.observations.len()
+        );
+    }
     let files =
         executed::files(&monitor, &robot).map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?;
     let violations = executed::check(&files, &robot);

@@ -455,3 +455,19 @@ fn monitor_goal_gone_mid_run_aborts_and_still_writes_the_checked_timeline() {
         result.stderr
     );
 }
+
+/// An observation at a plan point the plan never reaches (sub-goal 9 of
+/// two) was dropped without a word.
+#[test]
+fn monitor_observation_never_due_is_named_on_stderr() {
+    let result = afford(&[
+        "run",
+        "tests/fixtures/monitor/observation-never-reached.yaml",
+    ]);
+    result.assert_code(0).assert_no_panic();
+    assert!(
+        result.stderr.contains("observations[0..1] never came due"),
+        "{}",
+        result.stderr
+    );
+}

@@ -16,8 +16,10 @@ pub const CAMERA_PERIOD_S: f64 = 1.0 / 30.0;
 
 /// Runs `monitor` to completion or abort, delivering `observations` as
 /// they fall due. Execution longer than the timeline's bound
-/// ([`MAX_EXECUTION_TIME_S`]) is aborted.
-pub fn play(monitor: &mut Monitor, observations: &[Observation]) {
+/// ([`MAX_EXECUTION_TIME_S`]) is aborted. Returns how many entries were
+/// delivered: the rest never fell due before the run ended (a plan point
+/// the plan never reaches, a time after its end).
+pub fn play(monitor: &mut Monitor, observations: &[Observation]) -> usize {
     let mut next = 0;
     let mut frame = 0.0;
     while monitor.status() == &Status::Running {
@@ -37,6 +39,7 @@ pub fn play(monitor: &mut Monitor, observations: &[Observation]) {
         }
         monitor.advance(t + monitor.period());
     }
+    next
 }
 
 /// True when the entry's time or plan point has come.
