@@ -111,8 +111,8 @@ fn keep_goal(scene: &mut Scenario, sub: &ExecutedSubgoal) {
         .iter()
         .chain(sub.changes.iter().map(|(_, s)| s));
     let last = seen
-        .filter_map(|s| s.goal_index(&sub.goal).map(|g| s.goals[g].clone()))
-        .last();
+        .rev()
+        .find_map(|s| s.goal_index(&sub.goal).map(|g| s.goals[g].clone()));
     scene.goals.extend(last);
 }
 
