@@ -303,13 +303,26 @@ fn slowing_down_and_back_keeps_the_jerk_limit() {
     }
 }
 
-/// Prints each monitor example's largest executed jerk ratio, how long
-/// each of its stops takes and how far the tool travels from the verdict
-/// to rest (stop, wait, abort, and a replan that brakes). `cargo test --release -p afford-planner --test
-/// monitor -- --ignored --nocapture measure_example_stops`
-#[test]
-#[ignore = "measurement"]
-fn measure_example_stops() {
+/// One braking of an executed monitor example: from its verdict to rest.
+struct Braking {
+    example: String,
+    verdict: &'static str,
+    time: f64,
+    /// Tool speed at the verdict, m/s, and tool path to rest, m.
+    speed: f64,
+    distance: f64,
+    /// Seconds from the verdict to rest.
+    duration: f64,
+    /// What the scenario's separation rule assumes a stop from `speed`
+    /// takes, m: `v T_r + v²/(2 a_s)`.
+    allowed: f64,
+}
+
+/// Every monitor example executed as `afford run` executes it: its
+/// largest executed jerk ratio and every braking (stop, wait, abort, and a
+/// replan that brakes) with the tool's speed at the verdict and its path
+/// to rest.
+fn example_brakings() -> Vec<(String, f64, Vec<Braking>)> {
     use afford_planner::monitor::{Monitor, timeline};
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/monitor");
     let mut names: Vec<_> = std::fs::read_dir(&dir)
@@ -318,7 +331,9 @@ fn measure_example_stops() {
         .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
         .collect();
     names.sort();
+    let mut out = Vec::new();
     for path in names {
+        let example = path.file_name().unwrap().to_string_lossy().to_string();
         let scenario = afford_planner::scenario::load(&path).expect("example");
         let options = PlanOptions::default();
         let plan = Planner::new(options.clone()).plan(&scenario).expect("plan");
@@ -337,11 +352,8 @@ fn measure_example_stops() {
                 largest_jerk_ratio(&limits, &samples)
             })
             .fold(0.0, f64::max);
-        println!(
-            "{:40} largest executed jerk ratio {ratio:.3}",
-            path.file_name().unwrap().to_string_lossy()
-        );
         let braking = ["stop", "wait", "abort", "replan"];
+        let mut brakings = Vec::new();
         for event in monitor
             .events()
             .iter()
@@ -371,21 +383,90 @@ fn measure_example_stops() {
                 continue;
             }
             let start = first.saturating_sub(1);
-            let tool: f64 = points[start..=rest]
-                .windows(2)
-                .map(|w| {
-                    let (a, b) = (arm.fk(&w[0].positions), arm.fk(&w[1].positions));
-                    (b.translation.vector - a.translation.vector).norm()
-                })
-                .sum();
+            let step = |a: usize, b: usize| {
+                let (p, q) = (arm.fk(&points[a].positions), arm.fk(&points[b].positions));
+                (q.translation.vector - p.translation.vector).norm()
+            };
+            let distance: f64 = (start..rest).map(|i| step(i, i + 1)).sum();
+            let speed = match first > 0 {
+                true => {
+                    step(start, first)
+                        / (points[first].time_from_start - points[start].time_from_start)
+                }
+                false => 0.0,
+            };
+            let rule = &scenario.safety.separation;
+            brakings.push(Braking {
+                allowed: speed * rule.reaction_time_s
+                    + speed * speed / (2.0 * rule.stop_deceleration_m_s2),
+                example: example.clone(),
+                verdict: event.verdict,
+                time: event.time,
+                speed,
+                distance,
+                duration: sub.start_time + points[rest].time_from_start - event.time,
+            });
+        }
+        out.push((example, ratio, brakings));
+    }
+    out
+}
+
+/// Prints, for every monitor example, its largest executed jerk ratio,
+/// and for each of its stops how long it takes and how far the tool
+/// travels from the verdict to rest. `cargo test --release -p
+/// afford-planner --test monitor -- --ignored --nocapture
+/// measure_example_stops`
+#[test]
+#[ignore = "measurement"]
+fn measure_example_stops() {
+    for (example, ratio, brakings) in example_brakings() {
+        println!("{example:40} largest executed jerk ratio {ratio:.3}");
+        for b in brakings {
             println!(
-                "{:40} {:7} at {:6.2} s: rest after {:.3} s, tool {:.1} mm",
-                path.file_name().unwrap().to_string_lossy(),
-                event.verdict,
-                event.time,
-                sub.start_time + points[rest].time_from_start - event.time,
-                tool * 1e3
+                "{:40} {:7} at {:6.2} s: rest after {:.3} s, tool {:.1} mm from {:.3} m/s (rule {:.1} mm)",
+                b.example,
+                b.verdict,
+                b.time,
+                b.duration,
+                b.distance * 1e3,
+                b.speed,
+                b.allowed * 1e3
             );
         }
     }
+}
+
+/// The protective separation distance the planner and the monitor keep
+/// (ISO/TS 15066) assumes the tool, at speed `v` when the verdict is taken,
+/// comes to rest within `v T_r + v²/(2 a_s)` (reaction time and stopping
+/// deceleration of the scenario's separation rule). The jerk-bounded
+/// override brakes more gently than it used to: every protective braking
+/// of the monitor examples (a stop or a wait for a person's hand; replans
+/// and aborts for moved pieces and goals are not protective) must still end
+/// within that distance, with every executed joint within its jerk limit.
+#[test]
+fn jerk_bounded_stops_end_within_the_separation_rules_stopping_distance() {
+    let mut checked = 0;
+    for (example, ratio, brakings) in example_brakings() {
+        assert!(
+            ratio <= 1.0 + 1e-6,
+            "{example}: executed jerk ratio {ratio}"
+        );
+        let protective = |b: &&Braking| matches!(b.verdict, "stop" | "wait") && b.speed > 0.0;
+        for b in brakings.iter().filter(protective) {
+            assert!(
+                b.distance <= b.allowed,
+                "{}: {} at {:.2} s from {:.3} m/s rests after {:.1} mm, the rule allows {:.1} mm",
+                b.example,
+                b.verdict,
+                b.time,
+                b.speed,
+                b.distance * 1e3,
+                b.allowed * 1e3
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "{checked} brakings checked");
 }
