@@ -220,8 +220,22 @@ pub fn filter_width(
     acceleration: &[f64],
     jerk: &[f64],
 ) -> f64 {
+    let bound = jerk_bound_width(acceleration, jerk).unwrap_or(0.0);
+    filter_width_below(path, profile, acceleration, jerk, f64::INFINITY).unwrap_or(bound)
+}
+
+/// [`filter_width`] among the candidates narrower than `below` only:
+/// `None` when none of them passes (a profile that cannot beat a width
+/// already found is not scanned to the end). 0 without jerk limits.
+pub fn filter_width_below(
+    path: &PiecewiseCubic,
+    profile: &SpeedProfile,
+    acceleration: &[f64],
+    jerk: &[f64],
+    below: f64,
+) -> Option<f64> {
     let Some(bound) = jerk_bound_width(acceleration, jerk) else {
-        return 0.0;
+        return Some(0.0);
     };
     let raw = Filtered::new(path, profile, 0.0);
     let dim = path.dim();
@@ -251,17 +265,17 @@ pub fn filter_width(
     // few evaluations, not a scan).
     let checks = 2 * probes.len();
     let mut start = 0;
-    for m in 1..CANDIDATES {
-        let tau = bound * m as f64 / CANDIDATES as f64;
+    let widths = (1..CANDIDATES).map(|m| bound * m as f64 / CANDIDATES as f64);
+    for tau in widths.take_while(|&tau| tau < below) {
         match (0..checks)
             .map(|k| (start + k) % checks)
             .find(|&c| !holds(c / 2, c % 2 == 1, tau))
         {
             Some(broke) => start = broke,
-            None => return tau,
+            None => return Some(tau),
         }
     }
-    bound
+    None
 }
 
 /// `max_j 2A_j/J_j`, the width that bounds every joint's jerk whatever the

@@ -1018,11 +1018,14 @@ fn ramp_at_switches(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Ramped 
             solution,
             tool: solved.tool.clone(),
         };
-        let narrow = width(&candidate);
         let ramp_s = candidate.duration() - optimal;
         speeds.clone_from(&candidate.solution.b);
         let so_far = ramped.as_ref().map_or(plain, |r| r.ramp_s + r.narrow);
-        if ramp_s + narrow < so_far {
+        let profile = SpeedProfile::new(&candidate.grid, &candidate.solution.b);
+        // Only a width that makes the candidate end sooner is searched for.
+        let narrower =
+            jerk::filter_width_below(spline, &profile, &program.acc, &kept, so_far - ramp_s);
+        if let Some(narrow) = narrower {
             ramped = Some(Ramped {
                 solved: candidate,
                 rounds,
