@@ -272,17 +272,14 @@ fn measure_subgoal(
         settings,
     };
     let reference = reference_settings(settings);
+    let limits = arm_limits(robot, arm);
+    let jerk_limits = limits.jerk.clone();
     // Without the jerk limits: no filter, and the hands' caps as the rule
     // gives them (not lowered over the filter's window).
     let no_jerk = JointLimits {
         jerk: Vec::new(),
-        ..arm_limits(robot, arm)
+        ..limits
     };
-    let jerk_limits: Vec<f64> = arm
-        .joint_indices
-        .iter()
-        .map(|&i| robot.joints()[i].jerk)
-        .collect();
     let (mut duration_s, mut reference_s, mut timing_ms, mut without_jerk_s) = (0.0, 0.0, 0.0, 0.0);
     let mut jerk_floor_s = 0.0;
     for piece in pieces(&request) {

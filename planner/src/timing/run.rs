@@ -976,11 +976,11 @@ fn ramp_at_switches(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Ramped 
         ..
     } = *inputs;
     let kept = jerk_kept(limits, settings);
-    let width = |solved: &Solved| {
-        let profile = SpeedProfile::new(&solved.grid, &solved.solution.b);
-        jerk::filter_width(spline, &profile, &program.acc, &kept)
+    let profile = |solved: &Solved| SpeedProfile::new(&solved.grid, &solved.solution.b);
+    let plain = match solved.usable() {
+        true => jerk::filter_width(spline, &profile(&solved), &program.acc, &kept),
+        false => 0.0,
     };
-    let plain = if solved.usable() { width(&solved) } else { 0.0 };
     if settings.jerk_ramp_rounds == 0 || plain == 0.0 {
         return Ramped {
             solved,
@@ -1021,10 +1021,14 @@ fn ramp_at_switches(inputs: &Inputs, (solved, rounds): (Solved, u32)) -> Ramped 
         let ramp_s = candidate.duration() - optimal;
         speeds.clone_from(&candidate.solution.b);
         let so_far = ramped.as_ref().map_or(plain, |r| r.ramp_s + r.narrow);
-        let profile = SpeedProfile::new(&candidate.grid, &candidate.solution.b);
         // Only a width that makes the candidate end sooner is searched for.
-        let narrower =
-            jerk::filter_width_below(spline, &profile, &program.acc, &kept, so_far - ramp_s);
+        let narrower = jerk::filter_width_below(
+            spline,
+            &profile(&candidate),
+            &program.acc,
+            &kept,
+            so_far - ramp_s,
+        );
         if let Some(narrow) = narrower {
             ramped = Some(Ramped {
                 solved: candidate,
