@@ -1,4 +1,4 @@
-"""afford's grid MDP (`afford export-mdp`, docs/mdp-export.md) as a gymnasium env.
+"""afford's grid MDP (`afford export-mdp`, docs/guide/mdp-export.md) as a gymnasium env.
 
 The transitions and rewards are the exported tables, produced by the code
 afford's learners run (planner/src/discrete/task.rs, cql.rs): this module
@@ -36,7 +36,7 @@ class ExportError(ValueError):
 
 @dataclass
 class Mdp:
-    """One exported MDP (the fields of docs/mdp-export.md that learners need)."""
+    """One exported MDP (the fields of docs/guide/mdp-export.md that learners need)."""
 
     name: str
     rows: int

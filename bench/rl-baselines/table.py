@@ -288,7 +288,7 @@ def comparison(summaries: dict, budget: int) -> str:
     return (
         f"Against the paper: afford's CQL solves {rate['CQL']} of the solvable scenes (paper 84 %) and "
         f"its QL, which shares CQL's schedule (reverse replay, search until the first success; "
-        f"docs/decisions.md), {rate['QL']} (paper 38 %). With the authors' literal schedule "
+        f"docs/design/grid-and-cql.md), {rate['QL']} (paper 38 %). With the authors' literal schedule "
         f"(10,000 steps, restarts every 150) they solve {rate['CQL, paper schedule']} and "
         f"{rate['QL, paper schedule']}, the paper's ordering. The deep-RL rates ({deep} within "
         f"{budget:,} steps) are not comparable with the paper's 17 / 68 / 38 %: those came with budgets at least "
@@ -358,7 +358,7 @@ def render(args, mdps, results: list[dict], export_energy: dict) -> str:
         "",
         "## Budgets",
         "",
-        "- CQL and QL: afford's defaults (`LearnerSettings::default()`, docs/decisions.md): at most "
+        "- CQL and QL: afford's defaults (`LearnerSettings::default()`, docs/design/grid-and-cql.md): at most "
         "100,000 steps per scene.",
         f"- DQN, PPO, A2C: at most **{args.timesteps:,} environment steps per scene** and algorithm, "
         f"stopping early on convergence. This is below the paper's: its DQN and PPO needed 76,430 and "

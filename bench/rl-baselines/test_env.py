@@ -15,7 +15,7 @@ def test_env_replays_afford_plan_to_drop_on_every_scene(mdps):
     for mdp in mdps:
         plan = mdp.cql_plan
         if not plan["solved"]:
-            # afford's CQL never fails a solvable grid (docs/decisions.md).
+            # afford's CQL never fails a solvable grid (docs/design/grid-and-cql.md).
             assert not mdp.solvable, f"{mdp.name}: CQL failed a solvable MDP"
             continue
         env = AffordGridEnv(mdp)

@@ -1,5 +1,5 @@
-//! Bad and odd input found by trying afford as a new user (session 8,
-//! tests/fixtures/bad-input/): each test is named after the problem it
+//! Bad and odd input found by trying afford as a new user
+//! (tests/fixtures/bad-input/): each test is named after the problem it
 //! found. A bad file is refused with exit 2, the file, the field and what is
 //! wrong on stderr, nothing on stdout, never a panic; a failed run leaves no
 //! file behind; a plan that fails still says why, typed.

@@ -7,6 +7,7 @@ mod cases;
 mod check;
 mod cli;
 mod cql_properties;
+mod doc_links;
 mod examples;
 mod export_mdp;
 mod features;

@@ -376,14 +376,14 @@ pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
 mod tests {
     use super::*;
 
-    /// Issue 9: every sub-goal of every example within 1 % of the
-    /// converged time-optimal duration on its own path under its velocity,
+    /// Every sub-goal of every example within 1 % of the converged
+    /// time-optimal duration on its own path under its velocity,
     /// acceleration and hand-speed limits (timed without the jerk limits;
     /// their cost is reported apart). Five Care-O-bot sub-goals were
     /// 1.010–1.017 with the grid unrefined; the six near hands were
-    /// 1.0105–1.0321 while the grid was not refined near hands (session 6:
-    /// the real tool's speed was not checked). Never below the reference:
-    /// it must be the tighter bound.
+    /// 1.0105–1.0321 with the grid not refined near hands (the real tool's
+    /// speed unchecked). Never below the reference: it must be the tighter
+    /// bound.
     #[test]
     fn example_subgoals_within_one_percent_of_the_converged_optimum() {
         let figures = measure_examples(&PlanOptions::default());
