@@ -161,7 +161,10 @@ fn check_link(file: &Path, target: &str) -> Option<String> {
     }
     let text = std::fs::read_to_string(&resolved).expect("read the linked file");
     (!anchors(&text).contains(anchor)).then(|| {
-        format!("{target}: no heading with anchor #{anchor} in {}", resolved.display())
+        format!(
+            "{target}: no heading with anchor #{anchor} in {}",
+            resolved.display()
+        )
     })
 }
 
@@ -216,7 +219,10 @@ fn a_link_to_a_missing_file_or_heading_is_reported() {
     .unwrap();
     let broken = broken_links(&root);
     assert_eq!(broken.len(), 2, "{broken:#?}");
-    assert!(broken[0].starts_with("README.md:3: docs/missing.md: no such file"), "{broken:#?}");
+    assert!(
+        broken[0].starts_with("README.md:3: docs/missing.md: no such file"),
+        "{broken:#?}"
+    );
     assert!(
         broken[1].contains("page.md:5: #no-such-heading: no heading with anchor #no-such-heading"),
         "{broken:#?}"
