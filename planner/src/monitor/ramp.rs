@@ -27,7 +27,8 @@
 use crate::timing::{JointLimits, TrajectoryPoint};
 use crate::trajectory::TimedMotion;
 
-use super::execute::{Cursor, Interval};
+use super::interval::{Interval, LIMIT_SHARE};
+use super::state::{Cursor, Ramp};
 
 /// Shortest ramp tried, s.
 const FIRST_DURATION_S: f64 = 0.02;
@@ -35,39 +36,6 @@ const FIRST_DURATION_S: f64 = 0.02;
 const DURATION_RATIO: f64 = 1.12;
 /// Ramps tried (the longest ≈ 4 s).
 const DURATIONS: i32 = 48;
-
-/// A change of speed: `σ` at plan samples `first..`, then `target`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Ramp {
-    pub target: f64,
-    first: usize,
-    sigmas: Vec<f64>,
-    /// `σ̇` at the same samples, 1/s.
-    rates: Vec<f64>,
-}
-
-impl Ramp {
-    /// `σ` at plan sample `index` (at or after the ramp's first).
-    pub fn sigma(&self, index: usize) -> f64 {
-        self.at(&self.sigmas, index).unwrap_or(self.target)
-    }
-
-    fn rate(&self, index: usize) -> f64 {
-        self.at(&self.rates, index).unwrap_or(0.0)
-    }
-
-    fn at(&self, values: &[f64], index: usize) -> Option<f64> {
-        index
-            .checked_sub(self.first)
-            .and_then(|i| values.get(i))
-            .copied()
-    }
-
-    /// True once `index` is the ramp's last sample or past it.
-    pub fn ended(&self, index: usize) -> bool {
-        index + 1 >= self.first + self.sigmas.len()
-    }
-}
 
 /// The shape of a ramp over `u = t/T ∈ [0, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -388,7 +356,7 @@ fn passes(
         let stops = last.as_ref().is_none_or(|(m, dl)| {
             m.iter()
                 .zip(&limits.acceleration)
-                .all(|(m, a)| (m / (0.5 * (dl + dt))).abs() <= super::execute::LIMIT_SHARE * a)
+                .all(|(m, a)| (m / (0.5 * (dl + dt))).abs() <= LIMIT_SHARE * a)
         });
         if !stops || (jerk && !jerk_within(points, limits, [window[0], window[1], window[2], next]))
         {
