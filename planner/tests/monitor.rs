@@ -25,15 +25,15 @@ fn monitor_braking_stops_on_plan_samples_within_the_joint_limits() {
     // Full speed to a third of the way, then brake.
     let mut cursor = Cursor::START;
     while cursor.s < motion.duration() / 3.0 {
-        cursor = step(motion, &limits, &cursor, 1.0, 0.01).cursor;
+        cursor = step(motion, &limits, &cursor, 1.0, 0.01, None).cursor;
     }
-    let stop = stopping_point(motion, &limits, &cursor, 0.01, 100_000);
+    let stop = stopping_point(motion, &limits, &cursor, 0.01, 100_000, None);
     assert_eq!(stop.sigma, 0.0, "comes to rest");
     assert!(stop.s > cursor.s, "brakes along the path, not on the spot");
     let mut braking = cursor.clone();
     let mut previous = motion.points[braking.index].velocities.clone();
     while braking.sigma > 0.0 {
-        let step = step(motion, &limits, &braking, 0.0, 0.01);
+        let step = step(motion, &limits, &braking, 0.0, 0.01, None);
         let planned = &motion.points[step.cursor.index];
         assert_eq!(
             step.point.positions, planned.positions,
@@ -53,7 +53,7 @@ fn monitor_braking_stops_on_plan_samples_within_the_joint_limits() {
     }
     assert_eq!(braking.index, stop.index);
     // At rest with the command 0 the robot stays.
-    let rest = step(motion, &limits, &braking, 0.0, 0.01);
+    let rest = step(motion, &limits, &braking, 0.0, 0.01, None);
     assert_eq!(rest.cursor.index, braking.index);
     assert!(rest.point.velocities.iter().all(|v| *v == 0.0));
 }
@@ -162,7 +162,7 @@ fn execute(motion: &TimedMotion, limits: &JointLimits, from: f64, low: f64, rest
     let mut t = 0.0;
     let mut samples = vec![(0, 0.0)];
     let mut go = |cursor: &Cursor, command: f64, t: &mut f64| {
-        let step = step(motion, limits, cursor, command, DT);
+        let step = step(motion, limits, cursor, command, DT, None);
         *t += step.duration;
         samples.push((step.cursor.index, *t));
         step.cursor
@@ -171,7 +171,7 @@ fn execute(motion: &TimedMotion, limits: &JointLimits, from: f64, low: f64, rest
     while cursor.s < from && cursor.index < last {
         cursor = go(&cursor, 1.0, &mut t);
     }
-    let predicted = stopping_point(motion, limits, &cursor, DT, 100_000).index;
+    let predicted = stopping_point(motion, limits, &cursor, DT, 100_000, None).index;
     while (cursor.sigma - low).abs() > 1e-12 && cursor.index < last {
         cursor = go(&cursor, low, &mut t);
     }
@@ -323,14 +323,27 @@ struct Braking {
 /// replan that brakes) with the tool's speed at the verdict and its path
 /// to rest.
 fn example_brakings() -> Vec<(String, f64, Vec<Braking>)> {
-    use afford_planner::monitor::{Monitor, timeline};
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/monitor");
-    let mut names: Vec<_> = std::fs::read_dir(&dir)
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut names = yaml_files(&root.join("examples/monitor"), "");
+    names.extend(yaml_files(&root.join("tests/fixtures/monitor"), "run-"));
+    brakings_of(names)
+}
+
+/// The `.yaml` files of `dir` whose names start with `prefix`, sorted.
+fn yaml_files(dir: &Path, prefix: &str) -> Vec<std::path::PathBuf> {
+    let mut names: Vec<_> = std::fs::read_dir(dir)
         .expect("examples")
         .map(|e| e.expect("entry").path())
         .filter(|p| p.extension().is_some_and(|x| x == "yaml"))
+        .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with(prefix))
         .collect();
     names.sort();
+    names
+}
+
+/// [`example_brakings`] of the scenario files `names`.
+fn brakings_of(names: Vec<std::path::PathBuf>) -> Vec<(String, f64, Vec<Braking>)> {
+    use afford_planner::monitor::{Monitor, timeline};
     let mut out = Vec::new();
     for path in names {
         let example = path.file_name().unwrap().to_string_lossy().to_string();
@@ -469,4 +482,31 @@ fn jerk_bounded_stops_end_within_the_separation_rules_stopping_distance() {
         }
     }
     assert!(checked >= 3, "{checked} brakings checked");
+}
+
+/// A hand that comes onto the route ahead of a fast tool (a forearm held
+/// above the table, both robots, the plan at a joint's acceleration limit
+/// where the hand appears) is answered by a stop that ends within the
+/// separation rule's stopping term — never by riding the plan on to its
+/// next rest.
+#[test]
+fn a_protective_stop_never_rides_the_plan_past_the_stopping_term() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/monitor");
+    let cases = yaml_files(&root, "run-stop-not-braked-tall-hand-");
+    assert_eq!(cases.len(), 2);
+    let mut checked = 0;
+    for (case, _, brakings) in brakings_of(cases) {
+        for b in brakings.iter().filter(|b| b.verdict == "wait") {
+            assert!(
+                b.distance <= b.allowed && b.duration < 0.5,
+                "{case}: from {:.3} m/s the tool rests after {:.1} mm in {:.3} s, the rule allows {:.1} mm",
+                b.speed,
+                b.distance * 1e3,
+                b.duration,
+                b.allowed * 1e3
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 2);
 }

@@ -27,7 +27,8 @@ use super::{ExitKind, Failure, OutputFormat, RunArgs};
 struct RunOutput<'a> {
     scenario: String,
     seed: u64,
-    /// `completed` or `aborted`.
+    /// `completed`, `aborted`, `replay_failed` or `touched_hand`
+    /// ([`outcome`]).
     outcome: &'static str,
     #[serde(skip_serializing_if = "Option::is_none")]
     reason: Option<&'a Reason>,
@@ -111,11 +112,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let output = RunOutput {
         scenario: scenario.name.clone().unwrap_or_default(),
         seed: args.seed,
-        outcome: if reason.is_some() {
-            "aborted"
-        } else {
-            "completed"
-        },
+        outcome: outcome(reason.is_some(), &replayed),
         reason,
         start_state: monitor.start_state(),
         subgoals: monitor.executed(),
@@ -147,6 +144,26 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     emit(&text, args.output.as_deref())?;
     exit(reason, &replayed)
+}
+
+/// What the run came to, worst first: `touched_hand` when the physical
+/// replay found a robot body or the held piece touching a hand (nothing
+/// that touched a person is a success), `replay_failed` for any other
+/// finding of the replay, `aborted` when the monitor stopped for good,
+/// else `completed`.
+fn outcome(aborted: bool, replayed: &RunReplay) -> &'static str {
+    let touched = replayed
+        .subgoals
+        .iter()
+        .filter_map(|s| s.report.as_ref())
+        .flat_map(|r| &r.contacts)
+        .any(|c| c.kind == afford_collision::replay::BodyKind::Hand);
+    match (touched, replayed.passed, aborted) {
+        (true, _, _) => "touched_hand",
+        (false, false, _) => "replay_failed",
+        (false, true, true) => "aborted",
+        (false, true, false) => "completed",
+    }
 }
 
 /// Exit 1 when the run was aborted or its physical replay failed (both
@@ -287,6 +304,34 @@ mod tests {
             "{}",
             failed.message
         );
+    }
+
+    /// Nothing that touched a person is reported as a success: a run whose
+    /// replay found the held piece in a hand says so, whatever else.
+    #[test]
+    fn a_run_whose_replay_touched_a_hand_is_not_reported_completed() {
+        let mut touched = replay(&["held blue-square-1 touches the hand hand-1"]);
+        touched.subgoals[0].report = Some(afford_collision::replay::ReplayReport {
+            step: 0.01,
+            steps: 1,
+            targets: Vec::new(),
+            pieces: Vec::new(),
+            contacts: vec![afford_collision::replay::LinkContact {
+                link: "held blue-square-1".into(),
+                body: "hand-1".into(),
+                kind: afford_collision::replay::BodyKind::Hand,
+                motion: 0,
+                first: 3.8,
+                last: 3.9,
+                depth: 0.011,
+            }],
+            input_error: None,
+        });
+        assert_eq!(outcome(false, &touched), "touched_hand");
+        assert_eq!(outcome(true, &touched), "touched_hand");
+        assert_eq!(outcome(false, &replay(&["moved"])), "replay_failed");
+        assert_eq!(outcome(true, &replay(&[])), "aborted");
+        assert_eq!(outcome(false, &replay(&[])), "completed");
     }
 
     /// An aborted run whose replay also fails gives both reasons.

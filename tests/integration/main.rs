@@ -13,6 +13,7 @@ mod export_mdp;
 mod features;
 mod instructions;
 mod monitor;
+mod monitor_people;
 mod packing;
 mod physics;
 mod pipeline;

@@ -11,7 +11,7 @@ use afford::planner::scenario;
 use crate::util::{afford, nudge, repo, scratch_dir};
 
 /// The verdicts of the event log, in order, and the outcome.
-fn run(example: &str) -> (Vec<String>, Value) {
+pub(crate) fn run(example: &str) -> (Vec<String>, Value) {
     let path = format!("examples/monitor/{example}");
     let result = afford(&["run", &path]);
     result.assert_no_panic();
@@ -20,7 +20,7 @@ fn run(example: &str) -> (Vec<String>, Value) {
 }
 
 /// The verdicts of the event log, in order.
-fn verdicts(json: &Value) -> Vec<String> {
+pub(crate) fn verdicts(json: &Value) -> Vec<String> {
     json["events"]
         .as_array()
         .expect("events")
@@ -29,7 +29,7 @@ fn verdicts(json: &Value) -> Vec<String> {
         .collect()
 }
 
-fn reasons(json: &Value) -> Vec<String> {
+pub(crate) fn reasons(json: &Value) -> Vec<String> {
     json["events"]
         .as_array()
         .expect("events")
@@ -38,7 +38,7 @@ fn reasons(json: &Value) -> Vec<String> {
         .collect()
 }
 
-fn completed(json: &Value, subgoals: usize) {
+pub(crate) fn completed(json: &Value, subgoals: usize) {
     assert_eq!(json["outcome"], "completed", "{json:#}");
     assert_eq!(
         json["subgoals"].as_array().expect("subgoals").len(),

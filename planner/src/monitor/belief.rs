@@ -12,6 +12,8 @@ use serde::Serialize;
 
 use crate::scenario::{Object, Observation, PixelBox, Scenario};
 
+use super::detection::moved_beyond;
+
 /// An object the robot put in a goal: its box relative to the goal's
 /// top-left corner, pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,15 +66,25 @@ impl Change {
     }
 }
 
-/// `scene` after `observation`, with the robot's own knowledge of the
-/// objects it `placed` and the one it `holds` (name, its box) kept.
-pub fn observe(
-    scene: &Scenario,
-    observation: &Observation,
-    placed: &[Placed],
-    holds: Option<(&str, PixelBox)>,
-) -> Scenario {
+/// What the robot knows better than the camera while it observes.
+pub struct Known<'a> {
+    /// The objects it put in goals.
+    pub placed: &'a [Placed],
+    /// The object in its gripper (name, the box it was grasped from).
+    pub holds: Option<(&'a str, PixelBox)>,
+    /// The scene its plan was made for: a box seen within the detection
+    /// tolerance of its box there is that box ([`super::detection`]).
+    pub reference: &'a Scenario,
+    /// The open fingers' half-width, m (for each piece's grasp slack).
+    pub half_opening: f64,
+}
+
+/// `scene` after `observation`, detector noise taken out, with the robot's
+/// own knowledge of the objects it placed and the one it holds kept.
+pub fn observe(scene: &Scenario, observation: &Observation, known: &Known) -> Scenario {
     let mut next = scene.observed(observation);
+    denoise(&mut next, known.reference, known.half_opening);
+    let (placed, holds) = (known.placed, known.holds);
     for p in placed {
         let Some(goal) = next.goals.iter().find(|g| g.name == p.goal) else {
             continue;
@@ -88,6 +100,33 @@ pub fn observe(
         keep(&mut next.objects, Object { bbox, ..o.clone() });
     }
     next
+}
+
+/// Boxes within the detection tolerance of their box in `reference` (the
+/// same name) are put back there: jitter is not a move. An object's
+/// tolerance is at most half its grasp's slack (`half_opening` less half
+/// its narrower side).
+fn denoise(next: &mut Scenario, reference: &Scenario, half_opening: f64) {
+    let [mu, mv] = next.metres_per_pixel();
+    let setting = next.safety.detection.position_tolerance_m;
+    for o in &mut next.objects {
+        let Some(r) = reference.objects.iter().find(|r| r.name == o.name) else {
+            continue;
+        };
+        let slack = half_opening - 0.5 * (r.bbox.w * mu).min(r.bbox.l * mv);
+        let tolerance = setting.min(0.5 * slack.max(0.0));
+        if !moved_beyond([mu, mv], o.bbox, r.bbox, tolerance) && o.height == r.height {
+            o.bbox = r.bbox;
+        }
+    }
+    for g in &mut next.goals {
+        if let Some(r) = reference.goals.iter().find(|r| r.name == g.name)
+            && !moved_beyond([mu, mv], g.bbox, r.bbox, setting)
+            && g.height == r.height
+        {
+            g.bbox = r.bbox;
+        }
+    }
 }
 
 /// Replaces the object of the same name, or appends it.

@@ -8,6 +8,7 @@ use std::time::Instant;
 use crate::plan::SubgoalPlan;
 use crate::scenario::Scenario;
 use crate::timing::trajectory::hands;
+use crate::trajectory::GripperCommand;
 
 use super::execute::planned_position;
 use super::policy::{self, Fault, Remaining};
@@ -80,6 +81,7 @@ impl Monitor {
             (Verdict::Wait { reason }, Some(since)) if self.clock - since > MAX_WAIT_S => {
                 let hand = match reason {
                     Reason::HandOnRoute { hand, .. } => hand.clone(),
+                    Reason::Blocked { by, .. } => by.clone(),
                     _ => "a hand".into(),
                 };
                 Verdict::Abort {
@@ -113,6 +115,35 @@ impl Monitor {
         }
     }
 
+    /// The gripper of the sub-goal under way has opened on its piece: the
+    /// piece is placed, only the way out is left.
+    pub(super) fn released(&self) -> bool {
+        let track = &self.tracks[self.current];
+        let has_open = self
+            .motion()
+            .gripper
+            .iter()
+            .any(|e| e.command == GripperCommand::Open);
+        has_open && self.cursor.s >= track.open.1 - 1e-9
+    }
+
+    /// The believed scene, with the piece of the sub-goal under way and
+    /// its goal where they were when it was released (once it was).
+    pub(super) fn as_released(&self) -> crate::scenario::Scenario {
+        let mut scene = self.scene.clone();
+        if let Some(at) = self.released_at.as_ref().filter(|_| self.released()) {
+            for (name, bbox) in [&at.object, &at.goal] {
+                if let Some(o) = scene.objects.iter_mut().find(|o| &o.name == name) {
+                    o.bbox = *bbox;
+                }
+                if let Some(g) = scene.goals.iter_mut().find(|g| &g.name == name) {
+                    g.bbox = *bbox;
+                }
+            }
+        }
+        scene
+    }
+
     /// The tool position now (base frame, m).
     fn tool_now(&self) -> [f64; 3] {
         let q = planned_position(&self.motion().points, self.cursor.s);
@@ -144,7 +175,10 @@ impl Monitor {
             opening: Some(self.opening),
         };
         let k = self.executed.len().saturating_sub(1);
-        if let Err(fault) = policy::check(&self.scene, &remaining) {
+        // Once released, the piece is placed: only the way out matters.
+        if !self.released()
+            && let Err(fault) = policy::check(&self.scene, &remaining)
+        {
             return Some(trigger(fault, current, k, true));
         }
         if let Some(t) = self.route_trigger(sample, holding, k) {
@@ -164,6 +198,8 @@ impl Monitor {
                     // A hand far ahead may leave: it is judged when its
                     // sub-goal is under way.
                     Err(Fault::Hand { .. }) | Ok(()) => {}
+                    // Vanished work is dropped when the piece in hand is
+                    // put away (a replan from the end of this sub-goal).
                     Err(fault) => return Some(trigger(fault, later, k + j - self.current, false)),
                 }
             }
@@ -189,16 +225,20 @@ impl Monitor {
                 .map_or(self.planned_boxes[self.current], |h| h.grasped_box),
             held_grasp: grasp.filter(|_| holding),
         };
-        if !route::could_touch(&self.scene, &self.changes, &m) {
+        // After the release the way out leaves the placed piece and its
+        // goal where they were when the gripper opened: they moving since
+        // (the box carried away) is no obstacle to leaving them.
+        let scene = self.as_released();
+        if !route::could_touch(&scene, &self.changes, &m) {
             return None;
         }
-        let hit = match route::first_hit(&self.robot, &self.geometry, &self.scene, &m) {
+        let hit = match route::first_hit(&self.robot, &self.geometry, &scene, &m) {
             Ok(hit) => hit?,
             Err(message) => {
                 return Some(Trigger::Abort(Reason::NoPlan { message }));
             }
         };
-        let reason = match self.scene.hands.iter().any(|h| h.name == hit.other) {
+        let reason = match scene.hands.iter().any(|h| h.name == hit.other) {
             true => Reason::HandOnRoute {
                 hand: hit.other,
                 subgoal: k,
@@ -208,8 +248,11 @@ impl Monitor {
                 subgoal: k,
             },
         };
+        // A blocker on the way out with no work left: wait for it to go.
+        let nothing_left = self.released() && self.current + 1 >= self.plan.subgoals.len();
         Some(match reason {
             Reason::HandOnRoute { .. } => Trigger::Wait(reason),
+            _ if nothing_left => Trigger::Wait(reason),
             _ => Trigger::Replan { reason, now: true },
         })
     }
@@ -247,8 +290,16 @@ fn trigger(fault: Fault, plan: &SubgoalPlan, k: usize, now: bool) -> Trigger {
             reason: Reason::GoalMoved { goal, subgoal: k },
             now,
         },
-        Fault::TargetGone => Trigger::Abort(Reason::TargetGone { object }),
-        Fault::GoalGone => Trigger::Abort(Reason::GoalGone { goal }),
+        // Vanished work is dropped (a replan without it; with nothing
+        // left to do, an abort).
+        Fault::TargetGone => Trigger::Replan {
+            reason: Reason::TargetGone { object },
+            now,
+        },
+        Fault::GoalGone => Trigger::Replan {
+            reason: Reason::GoalGone { goal },
+            now,
+        },
     }
 }
 

@@ -8,6 +8,7 @@ use crate::plan::{HeldObject, MidExecution, Plan, Planner};
 use crate::trajectory::{GripperCommand, GripperEvent, TimedMotion, arm_limits};
 
 use super::belief::Placed;
+use super::brake::Braking;
 use super::decide::put_in_goal;
 use super::execute::{self, Cursor, planned_position};
 use super::track::Track;
@@ -49,6 +50,7 @@ impl Monitor {
             })
             .collect();
         self.planned_boxes = plan.subgoals.iter().map(Track::planned_box).collect();
+        self.reference = self.scene.clone();
         let continues = self.executed.last().is_some_and(|e| {
             let first = &plan.subgoals[0];
             self.current < self.plan.subgoals.len()
@@ -67,6 +69,8 @@ impl Monitor {
 
     /// Starts the executed record of the sub-goal under way.
     fn begin_subgoal(&mut self) {
+        self.placed_current = false;
+        self.released_at = None;
         let g = &self.plan.subgoals[self.current];
         let mut first = self.motion().points[0].clone();
         first.time_from_start = 0.0;
@@ -96,6 +100,11 @@ impl Monitor {
                 let Some(Pending::AtRest(plan)) = self.pending.take() else {
                     unreachable!("matched above")
                 };
+                if self.released() {
+                    // The piece is placed: this sub-goal ends here, at rest
+                    // on its way out.
+                    self.end_at_rest();
+                }
                 self.adopt(plan);
             }
             if let Some(reason) = self.aborting.clone() {
@@ -109,7 +118,15 @@ impl Monitor {
             self.play_gripper(&motion, event);
         } else {
             let limits = arm_limits(&self.robot, self.current_arm());
-            let step = execute::step(&motion, &limits, &self.cursor, self.command, self.dt);
+            let braking = self.braking();
+            let step = execute::step(
+                &motion,
+                &limits,
+                &self.cursor,
+                self.command,
+                self.dt,
+                Some(&braking),
+            );
             self.cursor = step.cursor;
             self.clock += step.duration;
             self.record(step.point);
@@ -148,8 +165,9 @@ impl Monitor {
                 end: self.clock - base,
             });
         }
-        if event.command == GripperCommand::Close {
-            self.held = Some(self.grasp_record(motion, event.start));
+        match event.command {
+            GripperCommand::Close => self.held = Some(self.grasp_record(motion, event.start)),
+            GripperCommand::Open => self.place_current(),
         }
         // The arm rests at the event's end: a pending plan takes over there.
         let sigma = match self.pending {
@@ -178,6 +196,15 @@ impl Monitor {
         }
     }
 
+    /// What a stop of the sub-goal under way keeps to: its tool path and
+    /// the scene's separation settings.
+    fn braking(&self) -> Braking<'_> {
+        Braking {
+            tool: &self.tracks[self.current].tool,
+            separation: &self.scene.safety.separation,
+        }
+    }
+
     fn current_arm(&self) -> &afford_kinematics::Arm {
         self.robot
             .arm(
@@ -192,31 +219,12 @@ impl Monitor {
     /// The sub-goal under way is done: its object rests in its goal, the
     /// next sub-goal (or a replan, or the new work) takes over.
     fn end_subgoal(&mut self) {
-        let g = self.plan.subgoals[self.current].clone();
         let last = self.motion().points.last().map(|p| p.positions.clone());
         if let Some(q) = last {
             let arm = self.current_arm().clone();
             arm.insert(&mut self.joints, &q);
         }
-        if let (Some(i), Some(goal)) = (
-            self.scene.object_index(&g.object),
-            self.scene.goals.iter().find(|x| x.name == g.goal),
-        ) {
-            let mut object = self.scene.objects[i].clone();
-            object.bbox = object.bbox.centred_at(g.release_px);
-            self.placed.push(Placed {
-                offset: [object.bbox.u - goal.bbox.u, object.bbox.v - goal.bbox.v],
-                object,
-                goal: g.goal.clone(),
-            });
-        }
-        let seen = self.scene_seen(&g.object);
-        if let Some(e) = self.executed.last_mut() {
-            e.scene = Some(seen);
-        }
-        put_in_goal(&mut self.scene, &g);
-        self.done.push(g.object.clone());
-        self.held = None;
+        self.close_record();
         self.current += 1;
         let next = match self.pending.take() {
             Some(Pending::AtEnd(plan)) | Some(Pending::AtRest(plan)) => Some(plan),
@@ -233,12 +241,52 @@ impl Monitor {
         }
     }
 
+    /// The piece of the sub-goal under way rests in its goal where it was
+    /// released: it moves with its goal from now on ([`Placed`]).
+    fn place_current(&mut self) {
+        if self.placed_current {
+            return;
+        }
+        self.placed_current = true;
+        let g = self.plan.subgoals[self.current].clone();
+        if let (Some(i), Some(goal)) = (
+            self.scene.object_index(&g.object),
+            self.scene.goals.iter().find(|x| x.name == g.goal),
+        ) {
+            let mut object = self.scene.objects[i].clone();
+            object.bbox = object.bbox.centred_at(g.release_px);
+            self.released_at = Some(super::ReleasedAt {
+                object: (g.object.clone(), object.bbox),
+                goal: (g.goal.clone(), goal.bbox),
+            });
+            self.placed.push(Placed {
+                offset: [object.bbox.u - goal.bbox.u, object.bbox.v - goal.bbox.v],
+                object,
+                goal: g.goal.clone(),
+            });
+        }
+        put_in_goal(&mut self.scene, &g);
+    }
+
+    /// The executed record of the sub-goal under way is complete (its
+    /// piece placed): the scene to check it against, the piece done.
+    fn close_record(&mut self) {
+        let object = self.plan.subgoals[self.current].object.clone();
+        let seen = self.scene_seen(&object);
+        if let Some(e) = self.executed.last_mut() {
+            e.scene = Some(seen);
+        }
+        self.place_current();
+        self.done.push(object);
+        self.held = None;
+    }
+
     /// What the independent check of the sub-goal under way (moving
     /// `object`) runs against ([`ExecutedSubgoal::scene`]): the scene now,
     /// less what came while it ran, its object where the gripper took it
     /// (where it was at the start if it has gone since).
     fn scene_seen(&self, object: &str) -> crate::Scenario {
-        let mut seen = self.scene.clone();
+        let mut seen = self.as_released();
         if let Some(start) = self.executed.last().and_then(|e| e.scene_at_start.as_ref()) {
             seen.objects
                 .retain(|o| o.name == object || start.objects.contains(o));
@@ -267,7 +315,8 @@ impl Monitor {
             // Braked this period: one period at rest ends the record at rest.
             let motion = self.motion().clone();
             let limits = arm_limits(&self.robot, self.current_arm());
-            let step = execute::step(&motion, &limits, &self.cursor, 0.0, self.dt);
+            let braking = self.braking();
+            let step = execute::step(&motion, &limits, &self.cursor, 0.0, self.dt, Some(&braking));
             self.cursor = step.cursor;
             self.clock += step.duration;
             self.record(step.point);
@@ -286,8 +335,19 @@ impl Monitor {
         }
     }
 
+    /// The sub-goal under way ends where the robot rests (after its
+    /// release): the whole robot's joints there, its record closed.
+    fn end_at_rest(&mut self) {
+        let q = planned_position(&self.motion().points, self.cursor.s);
+        let arm = self.current_arm().clone();
+        arm.insert(&mut self.joints, &q);
+        self.close_record();
+    }
+
     /// After the last sub-goal: plan the new work from here, or finish.
     fn take_new_work(&mut self) {
+        let work = std::mem::take(&mut self.new_work);
+        self.new_work = work.into_iter().filter(|g| self.still_wanted(g)).collect();
         if self.new_work.is_empty() {
             self.current -= 1;
             self.status = Status::Completed;
@@ -319,8 +379,16 @@ impl Monitor {
             true => self.rest_state(),
             false => self.end_state(),
         };
+        let first = now && !self.released();
+        let dropped = matches!(reason, Reason::TargetGone { .. } | Reason::GoalGone { .. });
         if goals.is_empty() {
-            return Verdict::Continue;
+            return match (dropped, first) {
+                // Nothing left of the instruction where the robot is.
+                (true, true) => Verdict::Abort { reason },
+                // The vanished work after this sub-goal is dropped.
+                (true, false) => self.drop_later(reason),
+                (false, _) => Verdict::Continue,
+            };
         }
         let planner = Planner::new(self.options.clone());
         let planned = planner.plan_from_loaded(&scene, &self.robot, &self.geometry, &goals, &from);
@@ -357,8 +425,15 @@ impl Monitor {
     fn rest_state(&self) -> (MidExecution, Vec<SubGoal>, crate::Scenario) {
         let motion = self.motion();
         let limits = arm_limits(&self.robot, self.current_arm());
-        let stop =
-            execute::stopping_point(motion, &limits, &self.cursor, self.dt, MAX_BRAKING_STEPS);
+        let braking = self.braking();
+        let stop = execute::stopping_point(
+            motion,
+            &limits,
+            &self.cursor,
+            self.dt,
+            MAX_BRAKING_STEPS,
+            Some(&braking),
+        );
         let mut joints = self.joints.clone();
         self.current_arm()
             .insert(&mut joints, &planned_position(&motion.points, stop.s));
@@ -373,7 +448,7 @@ impl Monitor {
                 .clone()
                 .unwrap_or_else(|| self.grasp_record(motion, track.close.0))
         });
-        let goals = self.goals_from(self.current);
+        let goals = self.goals_from(self.current + usize::from(self.released()));
         (MidExecution { joints, held }, goals, self.scene.clone())
     }
 
@@ -390,6 +465,8 @@ impl Monitor {
         (MidExecution { joints, held: None }, goals, scene)
     }
 
+    /// The sub-goals from number `k` on whose object and goal are still
+    /// in the scene (vanished work is dropped).
     fn goals_from(&self, k: usize) -> Vec<SubGoal> {
         self.plan.subgoals[k.min(self.plan.subgoals.len())..]
             .iter()
@@ -397,7 +474,31 @@ impl Monitor {
                 object: g.object.clone(),
                 goal: g.goal.clone(),
             })
+            .filter(|g| self.still_wanted(g))
             .collect()
+    }
+
+    /// The sub-goal's object and goal are on the table.
+    pub(super) fn still_wanted(&self, g: &SubGoal) -> bool {
+        self.scene.object_index(&g.object).is_some() && self.scene.goal_index(&g.goal).is_some()
+    }
+
+    /// Drops the sub-goals after the one under way (their work vanished
+    /// and nothing else is left): the run ends with this one.
+    fn drop_later(&mut self, reason: Reason) -> Verdict {
+        let keep = self.current + 1;
+        self.plan.subgoals.truncate(keep);
+        self.tracks.truncate(keep);
+        self.planned_boxes.truncate(keep);
+        self.pending = None;
+        Verdict::Replan {
+            plan: Box::new(Plan {
+                subgoals: Vec::new(),
+                unsolved: Vec::new(),
+                ..self.plan.clone()
+            }),
+            reason,
+        }
     }
 
     /// Turns a verdict into the speed command.

@@ -24,6 +24,7 @@
 use crate::timing::{JointLimits, TrajectoryPoint};
 use crate::trajectory::TimedMotion;
 
+use super::brake::Braking;
 use super::interval::Interval;
 pub use super::interval::LIMIT_SHARE;
 use super::ramp;
@@ -54,6 +55,7 @@ pub fn step(
     cursor: &Cursor,
     target: f64,
     dt: f64,
+    braking: Option<&Braking>,
 ) -> Step {
     let points = &motion.points;
     let k = cursor.index.min(points.len() - 1);
@@ -70,7 +72,7 @@ pub fn step(
         None => cursor.sigma == target,
     };
     if !settled {
-        cursor.ramp = Some(ramp::plan(motion, limits, &cursor, target, dt));
+        cursor.ramp = Some(ramp::plan(motion, limits, &cursor, target, dt, braking));
     }
     let (sa, sb) = match &cursor.ramp {
         Some(r) => (r.sigma(k), r.sigma(k + 1)),
@@ -137,13 +139,14 @@ pub fn stopping_point(
     cursor: &Cursor,
     dt: f64,
     max_steps: usize,
+    braking: Option<&Braking>,
 ) -> Cursor {
     let mut cursor = cursor.clone();
     for _ in 0..max_steps {
         if cursor.sigma <= 0.0 || cursor.index + 1 >= motion.points.len() {
             break;
         }
-        cursor = step(motion, limits, &cursor, 0.0, dt).cursor;
+        cursor = step(motion, limits, &cursor, 0.0, dt, braking).cursor;
     }
     cursor
 }

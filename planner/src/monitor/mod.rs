@@ -18,7 +18,9 @@
 //! [`Monitor::events`].
 
 pub mod belief;
+pub mod brake;
 mod decide;
+pub mod detection;
 mod drive;
 pub mod execute;
 mod interval;
@@ -47,6 +49,7 @@ use crate::plan::{HeldObject, JointState, Plan, PlanOptions};
 use crate::scenario::{MotionPhase, Observation, PixelBox, Scenario};
 use crate::trajectory::TimedMotion;
 use belief::{Change, Placed};
+use detection::HandMemory;
 use execute::Cursor;
 use track::Track;
 
@@ -99,6 +102,14 @@ pub enum Status {
     Aborted(Reason),
 }
 
+/// Where a released piece and its goal were when the gripper opened
+/// (name, box each).
+#[derive(Debug, Clone)]
+struct ReleasedAt {
+    object: (String, PixelBox),
+    goal: (String, PixelBox),
+}
+
 /// A replan waiting to take over.
 #[derive(Debug, Clone)]
 enum Pending {
@@ -118,6 +129,9 @@ pub struct Monitor {
     scene: Scenario,
     plan: Plan,
     tracks: Vec<Track>,
+    /// The scene the plan under way was made for (boxes within the
+    /// detection tolerance of theirs here did not move).
+    reference: Scenario,
     /// Target boxes the plan's grids were cut for.
     planned_boxes: Vec<PixelBox>,
     current: usize,
@@ -127,6 +141,10 @@ pub struct Monitor {
     /// The whole robot at the start of the sub-goal under way.
     joints: Vec<f64>,
     placed: Vec<Placed>,
+    /// The piece of the sub-goal under way is placed (its gripper opened).
+    placed_current: bool,
+    /// Its box and its goal's box when it was released.
+    released_at: Option<ReleasedAt>,
     done: Vec<String>,
     new_work: Vec<SubGoal>,
     held: Option<HeldObject>,
@@ -136,6 +154,8 @@ pub struct Monitor {
     trigger: Option<Option<Verdict>>,
     /// Scene changes not yet evaluated.
     changes: Vec<Change>,
+    /// The hands the detector lists and those it dropped within the hold.
+    hands: HandMemory,
     waiting_since: Option<f64>,
     /// An abort under way: the robot brakes, then stops for good.
     aborting: Option<Reason>,
@@ -173,6 +193,7 @@ impl Monitor {
             opening,
             dt: 1.0 / options.timing.rate_hz,
             scene: scenario.clone(),
+            reference: scenario.clone(),
             plan: Plan {
                 subgoals: Vec::new(),
                 ..plan.clone()
@@ -185,12 +206,15 @@ impl Monitor {
             clock: 0.0,
             joints,
             placed: Vec::new(),
+            placed_current: false,
+            released_at: None,
             done: Vec::new(),
             new_work: Vec::new(),
             held: None,
             pending: None,
             trigger: None,
             changes: Vec::new(),
+            hands: HandMemory::default(),
             waiting_since: None,
             aborting: None,
             status: Status::Running,
@@ -198,6 +222,8 @@ impl Monitor {
             events: Vec::new(),
             last: "continue",
         };
+        let hold = scenario.safety.detection.hand_hold_s;
+        monitor.hands.update(Some(&scenario.hands), 0.0, hold);
         monitor.adopt(plan);
         monitor.cursor = Cursor::START;
         Ok(monitor)
@@ -255,10 +281,22 @@ impl Monitor {
         }
     }
 
-    /// Steps the execution at the controller rate until `t`.
+    /// Steps the execution at the controller rate until `t`. A hand the
+    /// detector dropped stops counting when its hold ends, between
+    /// observations too: the scene changes then and is decided on.
     pub fn advance(&mut self, t: f64) {
         while self.status == Status::Running && self.clock + 0.5 * self.dt < t {
-            self.tick();
+            let hold = self.scene.safety.detection.hand_hold_s;
+            if self
+                .hands
+                .next_expiry(hold)
+                .is_some_and(|e| self.clock + 1e-9 >= e)
+            {
+                self.decide_on(&Observation::default());
+            }
+            if self.status == Status::Running {
+                self.tick();
+            }
         }
     }
 
@@ -268,13 +306,19 @@ impl Monitor {
     /// waiting are evaluated again.
     pub fn observe(&mut self, observation: &Observation, t: f64) -> Verdict {
         self.advance(t);
+        self.decide_on(observation)
+    }
+
+    /// Takes `observation` now and decides.
+    fn decide_on(&mut self, observation: &Observation) -> Verdict {
         let started = Instant::now();
         if self.status != Status::Running {
             return Verdict::Continue;
         }
+        let observation = self.with_held_hands(observation);
         let changes = match observation.is_unchanged() {
             true => Vec::new(),
-            false => self.take(observation),
+            false => self.take(&observation),
         };
         let (verdict, replan_ms) = self.decide();
         let decision_us = started.elapsed().as_secs_f64() * 1e6;
@@ -284,15 +328,32 @@ impl Monitor {
         verdict
     }
 
+    /// `observation` with the hands to believe in ([`HandMemory`]): those
+    /// listed, and those dropped within the hold time. Unchanged when the
+    /// believed hands are those of the scene.
+    fn with_held_hands(&mut self, observation: &Observation) -> Observation {
+        let hold = self.scene.safety.detection.hand_hold_s;
+        let believed = self
+            .hands
+            .update(observation.hands.as_deref(), self.clock, hold);
+        let mut out = observation.clone();
+        out.hands = match (&observation.hands, believed == self.scene.hands) {
+            (None, true) => None,
+            _ => Some(believed),
+        };
+        out
+    }
+
     /// Applies an observation to the believed scene; the changes in words.
     fn take(&mut self, observation: &Observation) -> Vec<String> {
         let held = self.holds().map(|(n, b)| (n.to_string(), b));
-        let next = belief::observe(
-            &self.scene,
-            observation,
-            &self.placed,
-            held.as_ref().map(|(n, b)| (n.as_str(), *b)),
-        );
+        let known = belief::Known {
+            placed: &self.placed,
+            holds: held.as_ref().map(|(n, b)| (n.as_str(), *b)),
+            reference: &self.reference,
+            half_opening: self.opening[1],
+        };
+        let next = belief::observe(&self.scene, observation, &known);
         let changes = belief::changes(&self.scene, &next);
         if !changes.is_empty() {
             if let Some(e) = self.executed.last_mut() {

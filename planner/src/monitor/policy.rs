@@ -14,7 +14,7 @@
 use serde::Serialize;
 
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
-use crate::place::Room;
+use crate::place::{Outline, Room};
 use crate::plan::SubgoalPlan;
 use crate::scenario::{PixelBox, Scenario};
 use crate::task::{Action, AgentState, GridTask, Outcome};
@@ -84,6 +84,9 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
     if !release_inside(&planned, object, goal, plan.release_px) {
         return Err(Fault::GoalMoved);
     }
+    if let Some(by) = release_taken(&planned, object, plan.release_px) {
+        return Err(Fault::Blocked { by });
+    }
     let task = GridTask::new(grid);
     let mut state = AgentState {
         cell: from,
@@ -93,13 +96,57 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
         state = match task.step(state, action) {
             Outcome::Moved(next) => next,
             Outcome::Done => return Ok(()),
-            Outcome::Refused => return Err(refusal(scene, &task, state, action)),
+            Outcome::Refused => {
+                return Err(attributed(
+                    scene,
+                    goal,
+                    refusal(scene, &task, state, action),
+                ));
+            }
         };
     }
     match r.done >= plan.actions.len() {
         true => Ok(()),
-        false => Err(Fault::GoalMoved),
+        false => Err(attributed(scene, goal, Fault::GoalMoved)),
     }
+}
+
+/// A goal the policy can no longer reach or drop into while a hand's
+/// perimeter covers part of it did not move: the hand is in the way (the
+/// release spot itself was checked inside the goal above).
+fn attributed(scene: &Scenario, goal: usize, fault: Fault) -> Fault {
+    if fault != Fault::GoalMoved {
+        return fault;
+    }
+    let [mu, mv] = scene.metres_per_pixel();
+    let margin = scene.safety.hand_margin;
+    let g = scene.goals[goal].bbox;
+    scene
+        .hands
+        .iter()
+        .find(|h| overlap(h.bbox.grown(margin / mu, margin / mv), g))
+        .map_or(fault, |h| Fault::Hand {
+            hand: h.name.clone(),
+        })
+}
+
+/// Two boxes share some area.
+fn overlap(a: PixelBox, b: PixelBox) -> bool {
+    a.u < b.u + b.w && b.u < a.u + a.w && a.v < b.v + b.l && b.v < a.v + a.l
+}
+
+/// Another piece lies where the object would be released (its footprint
+/// centred on `release` overlaps the other's, round pieces as discs: the
+/// packing's outlines, [`Outline`]): the piece's name.
+fn release_taken(scene: &Scenario, object: usize, release: [f64; 2]) -> Option<String> {
+    let outline = Outline::of(scene, &scene.objects[object]);
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != object)
+        .find(|(_, o)| outline.gap(scene, release, &Outline::of(scene, o), o.bbox.centre()) <= 0.0)
+        .map(|(_, o)| o.name.clone())
 }
 
 /// Why `action` from `state` is refused.

@@ -27,6 +27,7 @@
 use crate::timing::{JointLimits, TrajectoryPoint};
 use crate::trajectory::TimedMotion;
 
+use super::brake::{self, Braking};
 use super::interval::{Interval, LIMIT_SHARE};
 use super::state::{Cursor, Ramp};
 
@@ -151,13 +152,17 @@ fn trapezoid(u: f64) -> [f64; 3] {
     }
 }
 
-/// The ramp from `cursor` to the speed `target`.
+/// The ramp from `cursor` to the speed `target`. A stop (`target` 0)
+/// with `braking` given ends within its stopping distance
+/// ([`Braking::allowed`]): the first jerk-bounded candidate that does, else
+/// the hardest stop the joints allow ([`brake::hard`]).
 pub fn plan(
     motion: &TimedMotion,
     limits: &JointLimits,
     cursor: &Cursor,
     target: f64,
     dt: f64,
+    braking: Option<&Braking>,
 ) -> Ramp {
     let k = cursor.index;
     let going = |i: usize| cursor.ramp().map_or(cursor.sigma, |r| r.sigma(i));
@@ -172,11 +177,21 @@ pub fn plan(
             return jump;
         }
     }
+    let braking = braking.filter(|_| target <= 0.0);
+    let allowed = braking.map(|b| (b, b.allowed(motion, k, going(k))));
+    let within = |ramp: &Ramp| {
+        allowed.is_none_or(|(b, distance)| {
+            b.travel(k, ramp.first + ramp.sigmas.len() - 1) <= distance + 1e-6
+        })
+    };
     let (mut without_jerk, mut gentlest) = (None, None);
     for (delay, duration, shape) in candidates(cursor, motion.points.len(), going(k), dt) {
         let Some(ramp) = candidate(motion, cursor, target, (delay, duration, shape)) else {
             continue;
         };
+        if !within(&ramp) {
+            continue;
+        }
         if passes(motion, limits, cursor, &ramp, dt, true) {
             return ramp;
         }
@@ -187,7 +202,10 @@ pub fn plan(
             gentlest = Some(ramp);
         }
     }
-    without_jerk.or(gentlest).unwrap_or_else(|| Ramp {
+    let hard = braking
+        .and_then(|_| brake::hard(motion, limits, cursor, dt))
+        .filter(|r| passes(motion, limits, cursor, r, dt, false));
+    hard.or(without_jerk).or(gentlest).unwrap_or_else(|| Ramp {
         target,
         first: k,
         sigmas: vec![going(k), going(k + 1)],

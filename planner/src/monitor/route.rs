@@ -12,7 +12,7 @@
 use afford_collision::{Collision, RobotGeometry};
 use afford_kinematics::RobotModel;
 
-use crate::clearance::{ArmMotion, check_motion};
+use crate::clearance::{ArmMotion, check_after_release, check_motion};
 use crate::plan::SubgoalPlan;
 use crate::scenario::{PixelBox, Scenario};
 
@@ -82,9 +82,11 @@ pub fn first_hit(
         .iter()
         .map(|p| p.positions.clone())
         .collect();
-    let mut planned = scene.clone();
-    planned.objects[target].bbox = m.target_box;
     let (grasp, release) = motion.gripper_samples();
+    let mut planned = scene.clone();
+    if from < release || release == 0 {
+        planned.objects[target].bbox = m.target_box;
+    }
     let held = m.held_grasp.map(|q| (m.target_box, q));
     let check = ArmMotion {
         scenario: &planned,
@@ -100,7 +102,12 @@ pub fn first_hit(
         release_at: release.saturating_sub(from),
         held,
     };
-    Ok(check_motion(robot, geometry, &check)?.map(|hit| hit.collision))
+    let hit = match from >= release && release > 0 {
+        // Released: the way out only, the piece resting in its goal.
+        true => check_after_release(robot, geometry, &check)?,
+        false => check_motion(robot, geometry, &check)?,
+    };
+    Ok(hit.map(|hit| hit.collision))
 }
 
 /// An element's box, height and safety margin (m).

@@ -125,6 +125,27 @@ pub fn check_motion(
     Ok(None)
 }
 
+/// Checks a motion that starts after its release (the way out of a goal):
+/// the whole path as the after-release leg of [`check_motion`], the target
+/// resting where the scenario has it.
+pub fn check_after_release(
+    robot: &RobotModel,
+    geometry: &RobotGeometry,
+    m: &ArmMotion,
+) -> Result<Option<PathHit>, String> {
+    let spec = scene_spec(m.scenario, m.target, m.goal);
+    let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
+    let name = &m.scenario.objects[m.target].name;
+    let options = leg_options(robot, geometry, m.arm, name, Leg::AfterRelease)?;
+    let verdict = geometry
+        .check_arm_path(&scene, m.arm, m.rest, m.path, &options)
+        .map_err(|e| e.to_string())?;
+    Ok(verdict.first().map(|hit| PathHit {
+        index: hit.waypoint,
+        collision: hit.clone(),
+    }))
+}
+
 /// The parts of a sub-goal where the hand holds nothing: the arm's free moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Leg {

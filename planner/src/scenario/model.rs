@@ -190,6 +190,10 @@ pub struct Safety {
     /// Speed and separation near hands (ISO/TS 15066); defaults and their
     /// sources are on [`SeparationSettings`].
     pub separation: SeparationSettings,
+    /// How the valid-policy detector reads the detector's observations:
+    /// the hold time of a hand that dropped out of view, the tolerance of
+    /// box shifts ([`crate::monitor::detection::DetectionSettings`]).
+    pub detection: crate::monitor::detection::DetectionSettings,
 }
 
 impl Default for Safety {
@@ -199,6 +203,7 @@ impl Default for Safety {
             sensitive_margin: 0.06,
             hand_margin: 0.10,
             separation: SeparationSettings::default(),
+            detection: Default::default(),
         }
     }
 }

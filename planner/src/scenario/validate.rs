@@ -373,6 +373,9 @@ fn check_safety(s: &Scenario, push: &mut Push) {
             );
         }
     }
+    for (field, problem) in safety.detection.problems() {
+        push(format!("safety.detection.{field}"), problem);
+    }
     let separation = &safety.separation;
     if let Err(crate::timing::TimingError::Setting {
         field,
