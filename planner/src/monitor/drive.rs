@@ -113,36 +113,40 @@ impl Monitor {
                 return;
             }
         }
-        let motion = self.motion().clone();
-        if let Some(event) = self.event_at_cursor() {
-            self.play_gripper(&motion, event);
-        } else {
-            let limits = arm_limits(&self.robot, self.current_arm());
-            let braking = self.braking();
-            let step = execute::step(
-                &motion,
-                &limits,
-                &self.cursor,
-                self.command,
-                self.dt,
-                Some(&braking),
-            );
-            self.cursor = step.cursor;
-            self.clock += step.duration;
-            self.record(step.point);
+        // The trajectory is lent out for the period (not cloned: a clone
+        // per period would make the cost per period grow with the plan).
+        let motion = self.plan.subgoals[self.current]
+            .trajectory
+            .take()
+            .expect("monitored plans are timed");
+        match event_in(&motion, self.cursor.s) {
+            Some(event) => self.play_gripper(&motion, event),
+            None => {
+                let limits = arm_limits(&self.robot, self.current_arm());
+                let braking = self.braking();
+                let step = execute::step(
+                    &motion,
+                    &limits,
+                    &self.cursor,
+                    self.command,
+                    self.dt,
+                    Some(&braking),
+                );
+                self.cursor = step.cursor;
+                self.clock += step.duration;
+                self.record(step.point);
+            }
         }
-        if self.cursor.index + 1 >= motion.points.len() {
+        let ended = self.cursor.index + 1 >= motion.points.len();
+        self.plan.subgoals[self.current].trajectory = Some(motion);
+        if ended {
             self.end_subgoal();
         }
     }
 
     /// The gripper event of the sub-goal under way that starts at the cursor.
     fn event_at_cursor(&self) -> Option<GripperEvent> {
-        self.motion()
-            .gripper
-            .iter()
-            .find(|e| (e.start - self.cursor.s).abs() < 1e-9 && e.end > e.start)
-            .copied()
+        event_in(self.motion(), self.cursor.s)
     }
 
     /// The arm rests while the gripper acts: the planned rest is played
@@ -573,6 +577,15 @@ impl Monitor {
             replan_ms,
         });
     }
+}
+
+/// The gripper event of `motion` that starts at plan time `s`.
+fn event_in(motion: &TimedMotion, s: f64) -> Option<GripperEvent> {
+    motion
+        .gripper
+        .iter()
+        .find(|e| (e.start - s).abs() < 1e-9 && e.end > e.start)
+        .copied()
 }
 
 /// The unsolved sub-goals of a plan, in words.
