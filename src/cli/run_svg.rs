@@ -1,13 +1,16 @@
 //! `afford run --svg`: a top view of the executed run — the scene as it
-//! was at the end (goals, objects, hands with their names), the tool's
-//! executed path per sub-goal, and each event marked where the tool was
-//! when it was decided, numbered as in the list below the view.
+//! was at the end (goals, objects, hands with their names), every hand
+//! that came and went during the run (dashed, labelled with the times it
+//! was believed present), the tool's executed path per sub-goal, and each
+//! event (stops, waits, replans …) marked where the tool was when it was
+//! decided, numbered as in the list below the view.
 
 use std::fmt::Write;
 
 use afford_kinematics::RobotModel;
 use afford_planner::Scenario;
 use afford_planner::monitor::{Event, ExecutedSubgoal};
+use afford_planner::scenario::PixelBox;
 
 const COLOURS: [&str; 6] = [
     "#1565c0", "#2e7d32", "#ef6c00", "#6a1b9a", "#00838f", "#ad1457",
@@ -44,6 +47,23 @@ pub fn draw(
             b.u + 2.0,
             b.v + 12.0,
             escape(name)
+        );
+    }
+    for (name, b, from, to) in hand_spans(executed) {
+        if scene.hands.iter().any(|h| h.name == name && h.bbox == b) {
+            continue;
+        }
+        let until = to.map_or("end".to_string(), |t| format!("{t:.2} s"));
+        let _ = writeln!(
+            svg,
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#ffcdd2\" fill-opacity=\"0.4\" stroke=\"#c62828\" stroke-dasharray=\"4 3\"/><text x=\"{}\" y=\"{}\" fill=\"#c62828\">{} {from:.2}–{until}</text>",
+            b.u,
+            b.v,
+            b.w,
+            b.l,
+            b.u + 2.0,
+            b.v + b.l + 12.0,
+            escape(&name)
         );
     }
     let mut marks = Vec::new();
@@ -116,6 +136,38 @@ pub fn draw(
     }
     svg.push_str("</svg>\n");
     svg
+}
+
+/// Every hand believed present during the run, each place it was in:
+/// (name, box, from, until; `None` while still there at the end), times
+/// on the execution clock, in the order they came.
+fn hand_spans(executed: &[ExecutedSubgoal]) -> Vec<(String, PixelBox, f64, Option<f64>)> {
+    let mut spans: Vec<(String, PixelBox, f64, Option<f64>)> = Vec::new();
+    let scenes = executed.iter().flat_map(|sub| {
+        let start = sub.scene_at_start.iter().map(|s| (sub.start_time, s));
+        let changes = (sub.changes.iter()).map(|(t, s)| (sub.start_time + t, s));
+        start.chain(changes)
+    });
+    for (t, scene) in scenes {
+        for span in spans.iter_mut().filter(|s| s.3.is_none()) {
+            if !scene
+                .hands
+                .iter()
+                .any(|h| h.name == span.0 && h.bbox == span.1)
+            {
+                span.3 = Some(t);
+            }
+        }
+        for h in &scene.hands {
+            if !spans
+                .iter()
+                .any(|s| s.3.is_none() && s.0 == h.name && s.1 == h.bbox)
+            {
+                spans.push((h.name.clone(), h.bbox, t, None));
+            }
+        }
+    }
+    spans
 }
 
 fn escape(text: &str) -> String {

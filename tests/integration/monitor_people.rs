@@ -153,3 +153,25 @@ fn new_work_that_vanishes_before_its_subgoal_begins_is_dropped_without_a_panic()
     assert_eq!(verdicts[0], "new_work", "{verdicts:?}");
     completed(&json, 1);
 }
+
+#[test]
+fn a_run_picture_shows_the_hands_that_came_and_went_and_the_stops() {
+    let dir = crate::util::scratch_dir("run-picture-hands");
+    let svg = dir.join("run.svg");
+    let out = dir.join("run.json");
+    let result = afford(&[
+        "run",
+        "tests/fixtures/monitor/run-flickering-hand-cob4.yaml",
+        "-o",
+        out.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    result.assert_no_panic();
+    let picture = std::fs::read_to_string(&svg).expect("picture written");
+    // The hand has left by the end: drawn dashed with the time it was
+    // believed present; the wait is numbered on the path and listed.
+    assert!(picture.contains("stroke-dasharray"), "{picture}");
+    assert!(picture.contains("hand-1 3.30–6.71 s"), "{picture}");
+    assert!(picture.contains("1. 3.30 s wait"), "{picture}");
+}
