@@ -18,15 +18,15 @@ use std::time::Instant;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
-use super::jerk::sample_jerk;
-use super::jerk_floor::piece_jerk_floor;
-use super::run::JointLimits;
-use super::run::TimingSettings;
-use super::trajectory::{
+use afford_planner::plan::{PlanOptions, SubgoalPlan, plan};
+use afford_planner::scenario::{Format, Scenario, parse};
+use afford_planner::timing::JointLimits;
+use afford_planner::timing::TimingSettings;
+use afford_planner::timing::jerk::sample_jerk;
+use afford_planner::timing::jerk_floor::piece_jerk_floor;
+use afford_planner::timing::trajectory::{
     TimedMotion, TimingRequest, arm_limits, pieces, time_piece, time_piece_within,
 };
-use crate::plan::{PlanOptions, SubgoalPlan, plan};
-use crate::scenario::{Format, Scenario, parse};
 
 /// Every example scenario (`examples/` and `examples/monitor/`, planned
 /// as `afford plan` plans them), by file name.
@@ -163,7 +163,7 @@ pub struct SubgoalFigures {
     /// `duration_s / reference_s`.
     pub ratio_to_optimal: f64,
     /// Least time any jerk-limited timing of the same path must add to
-    /// `reference_s` ([`jerk_floor`](super::jerk_floor), from the
+    /// `reference_s` ([`jerk_floor`](afford_planner::timing::jerk_floor), from the
     /// reference's samples), seconds.
     pub jerk_floor_s: f64,
     /// `duration_s / (reference_s + jerk_floor_s)`: an upper bound on the
@@ -376,13 +376,13 @@ pub fn peak_jerk(motion: &TimedMotion, limits: Option<&[f64]>) -> (f64, usize) {
 mod tests {
     use super::*;
 
-    /// Issue 9: every sub-goal of every example within 1 % of the
+    /// Every sub-goal of every example within 1 % of the
     /// converged time-optimal duration on its own path under its velocity,
     /// acceleration and hand-speed limits (timed without the jerk limits;
     /// their cost is reported apart). Five Care-O-bot sub-goals were
     /// 1.010–1.017 with the grid unrefined; the six near hands were
-    /// 1.0105–1.0321 while the grid was not refined near hands (session 6:
-    /// the real tool's speed was not checked). Never below the reference:
+    /// 1.0105–1.0321 while the grid was not refined near hands (and the real
+    /// tool's speed not checked). Never below the reference:
     /// it must be the tighter bound.
     #[test]
     fn example_subgoals_within_one_percent_of_the_converged_optimum() {
