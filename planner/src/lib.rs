@@ -29,7 +29,6 @@
 //! assert_eq!(plan.subgoals[0].actions.last().unwrap().name(), "DROP");
 //! ```
 
-pub mod bench;
 pub mod discrete;
 pub mod error;
 pub mod instruction;

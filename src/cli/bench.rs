@@ -2,17 +2,17 @@
 
 use std::io::IsTerminal;
 
+use afford_bench::cql::{self, CqlBenchConfig};
+use afford_bench::safety::{Finding, Robots, SafetyReport, run_scene};
+use afford_bench::{routes, scenes, transits};
 use afford_check::PlanFile;
 use afford_kinematics::RobotModel;
-use afford_planner::bench::cql::{self, CqlBenchConfig};
-use afford_planner::bench::safety::{Finding, Robots, SafetyReport, run_scene};
-use afford_planner::bench::{routes, scenes, transits};
 use afford_planner::{Plan, Scenario};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use afford_bench::timing::{TimingBenchSettings, timing_benchmark};
 use afford_planner::PlanOptions;
-use afford_planner::timing::{TimingBenchSettings, timing_benchmark};
 
 use super::executed;
 use super::output::print;
@@ -103,7 +103,7 @@ pub fn pipeline(args: &BenchPipelineArgs) -> Result<(), Failure> {
         ..PlanOptions::default()
     };
     let bar = progress_bar(args.runs as u64, "runs");
-    let report = afford_planner::bench::pipeline::run(&scenario, &options, args.runs, |k| {
+    let report = afford_bench::pipeline::run(&scenario, &options, args.runs, |k| {
         bar.set_position(k as u64)
     })
     .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
@@ -240,7 +240,7 @@ fn progress_bar(len: u64, unit: &str) -> ProgressBar {
 }
 
 pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
-    use afford_planner::bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
+    use afford_bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
     use afford_planner::monitor::Monitor;
     count_in(args.scenes, "scenes", MAX_SCENES)?;
     let bar = progress_bar(args.scenes as u64, "scenes");

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use afford_planner::bench::cql::generated_export;
+use afford_bench::cql::generated_export;
 use afford_planner::export::{MdpExport, scenario_exports};
 
 use super::output::emit;

@@ -256,7 +256,7 @@ pub struct BenchRoutesArgs {
 #[derive(Debug, clap::Args)]
 pub struct BenchMonitorArgs {
     /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
-    #[arg(long, default_value_t = afford_planner::bench::monitor::MonitorBenchConfig::default().scenes)]
+    #[arg(long, default_value_t = afford_bench::monitor::MonitorBenchConfig::default().scenes)]
     pub scenes: usize,
     #[command(flatten)]
     pub common: BenchSeedArgs,

@@ -364,7 +364,7 @@ fn physics_check_of_a_plan_it_cannot_replay_prints_no_empty_replay_summary() {
 /// campaign's and the CQL benchmark's series stay as they were.
 #[test]
 fn every_benchmark_scene_passes_the_bad_input_checks() {
-    use afford::planner::bench::{generator, scenes};
+    use afford_bench::{generator, scenes};
     for k in 0..1000 {
         let scene = scenes::scene(1, k);
         assert!(

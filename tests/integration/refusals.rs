@@ -230,7 +230,7 @@ fn refusal_kinds_are_distinct_snake_case() {
 fn refusal_messages_of_random_scenes_are_unambiguous() {
     let mut seen = std::collections::BTreeSet::new();
     for k in 0..16 {
-        let s = afford::planner::bench::scenes::scene(1, k);
+        let s = afford_bench::scenes::scene(1, k);
         let unsolved = match plan(&s, &PlanOptions::default()) {
             Ok(p) => p.unsolved,
             Err(PlanError::Unsolvable { unsolved, .. }) => unsolved,

@@ -5,11 +5,11 @@
 //! class and repeat for the same seed; the CLI prints the documented JSON.
 
 use afford::kinematics::RobotModel;
-use afford::planner::bench::safety::{Finding, SafetyConfig, VIOLATION_CLASSES, run_campaign};
-use afford::planner::bench::scenes::{ROBOTS, robot_of, scene};
 use afford::planner::instruction::subgoals;
 use afford::planner::scenario::{Format, parse};
 use afford::planner::{Plan, Scenario};
+use afford_bench::safety::{Finding, SafetyConfig, VIOLATION_CLASSES, run_campaign};
+use afford_bench::scenes::{ROBOTS, robot_of, scene};
 
 use crate::util::afford;
 
@@ -126,7 +126,7 @@ fn campaign_counts_add_up_name_every_class_and_repeat() {
         assert_eq!(r.scenarios, 3, "{robot}");
         assert_eq!(r.planned + r.partly_planned + r.refused, 3, "{robot}");
     }
-    let sum = |f: fn(&afford::planner::bench::safety::Tally) -> usize| -> usize {
+    let sum = |f: fn(&afford_bench::safety::Tally) -> usize| -> usize {
         report.robots.values().map(f).sum()
     };
     assert_eq!(sum(|r| r.trajectories), t.trajectories);

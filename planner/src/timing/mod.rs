@@ -79,9 +79,7 @@
 //! assert!(trajectory.points.last().unwrap().velocities.iter().all(|v| v.abs() < 1e-9));
 //! ```
 
-pub mod bench;
 pub mod deviation;
-pub mod examples;
 pub mod grid;
 pub mod jerk;
 pub mod jerk_floor;
@@ -96,7 +94,6 @@ pub mod trajectory;
 
 mod run;
 
-pub use bench::{TimingBenchReport, TimingBenchSettings, timing_benchmark};
 pub use deviation::ToolFk;
 pub use run::{
     JointLimits, MAX_SAMPLES, Proximity, SeparationSummary, SolveStats, Timing, TimingError,

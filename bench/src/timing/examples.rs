@@ -18,15 +18,15 @@ use std::time::Instant;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
-use super::jerk::sample_jerk;
-use super::jerk_floor::piece_jerk_floor;
-use super::run::JointLimits;
-use super::run::TimingSettings;
-use super::trajectory::{
+use afford_planner::plan::{PlanOptions, SubgoalPlan, plan};
+use afford_planner::scenario::{Format, Scenario, parse};
+use afford_planner::timing::JointLimits;
+use afford_planner::timing::TimingSettings;
+use afford_planner::timing::jerk::sample_jerk;
+use afford_planner::timing::jerk_floor::piece_jerk_floor;
+use afford_planner::timing::trajectory::{
     TimedMotion, TimingRequest, arm_limits, pieces, time_piece, time_piece_within,
 };
-use crate::plan::{PlanOptions, SubgoalPlan, plan};
-use crate::scenario::{Format, Scenario, parse};
 
 /// Every example scenario (`examples/` and `examples/monitor/`, planned
 /// as `afford plan` plans them), by file name.
@@ -163,7 +163,7 @@ pub struct SubgoalFigures {
     /// `duration_s / reference_s`.
     pub ratio_to_optimal: f64,
     /// Least time any jerk-limited timing of the same path must add to
-    /// `reference_s` ([`jerk_floor`](super::jerk_floor), from the
+    /// `reference_s` ([`jerk_floor`](afford_planner::timing::jerk_floor), from the
     /// reference's samples), seconds.
     pub jerk_floor_s: f64,
     /// `duration_s / (reference_s + jerk_floor_s)`: an upper bound on the

@@ -10,8 +10,8 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::cql::LearnerSettings;
-use crate::scenario::{
+use afford_planner::cql::LearnerSettings;
+use afford_planner::scenario::{
     Camera, FORMAT_VERSION, Goal, Hand, Object, PixelBox, RobotSpec, Safety, Scenario,
 };
 

@@ -12,7 +12,7 @@
 //! | `blocker_on_route` | yes | a new object on such a cell |
 //! | `new_piece` | yes | a new blue square (the instruction says "all") |
 //! | `piece_moved_away` | no | the red square moved where its box, grown by its margin and one cell, misses every cell still visited and lies [`REACH_M`] + margin from every remaining tool position |
-//! | `hand_far_away` | no | a hand placed likewise with the hand margin, and where the tool-speed cap of every remaining sample ([`crate::timing::SeparationSettings::tool_speed_cap`]) exceeds its planned speed with the monitor's tolerance |
+//! | `hand_far_away` | no | a hand placed likewise with the hand margin, and where the tool-speed cap of every remaining sample ([`afford_planner::timing::SeparationSettings::tool_speed_cap`]) exceeds its planned speed with the monitor's tolerance |
 //!
 //! A relevant perturbation is detected when the verdict is anything but
 //! `Continue` or `Slow`; an irrelevant one is a false trigger when it is
@@ -30,16 +30,16 @@ use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use super::median;
-use crate::monitor::route::REACH_M;
-use crate::monitor::separation::TOLERANCE;
-use crate::monitor::track::Track;
-use crate::monitor::{Monitor, Verdict, timeline};
-use crate::plan::{Plan, PlanOptions, Planner, SubgoalPlan};
-use crate::scenario::{
+use afford_planner::monitor::route::REACH_M;
+use afford_planner::monitor::separation::TOLERANCE;
+use afford_planner::monitor::track::Track;
+use afford_planner::monitor::{Monitor, Verdict, timeline};
+use afford_planner::plan::{Plan, PlanOptions, Planner, SubgoalPlan};
+use afford_planner::scenario::{
     Camera, FORMAT_VERSION, Goal, Hand, Object, Observation, PixelBox, RobotSpec, Safety, Scenario,
 };
-use crate::timing::separation::nearest_hand_distance;
-use crate::timing::trajectory::hands;
+use afford_planner::timing::separation::nearest_hand_distance;
+use afford_planner::timing::trajectory::hands;
 
 /// The robot of every scene.
 pub const ROBOT: &str = "kuka_iiwa14";
@@ -523,7 +523,7 @@ impl Ahead {
 
     /// A cell the policy still visits, at least three cells from the one
     /// under the tool (an obstacle painted next to the gripper is one it
-    /// may leave over, [`crate::grid`]), before the goal: the first such.
+    /// may leave over, [`afford_planner::grid`]), before the goal: the first such.
     /// Its painted region also stays a cell clear of the other pieces'
     /// (an obstacle region joined to one under the gripper is left over
     /// too), and the cell clear of the goal boxes (a blocker cannot stand

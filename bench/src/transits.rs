@@ -6,7 +6,7 @@
 //! where every sub-goal plans on its own, those of them where the chain
 //! plans every sub-goal too, their sub-goals planned chained, and the
 //! chained refusals by kind; transit refusals (no collision-free transit
-//! within the transit planner's budget, [`crate::transit`]) over every
+//! within the transit planner's budget, [`afford_planner::transit`]) over every
 //! scene.
 
 use std::collections::BTreeMap;
@@ -15,15 +15,15 @@ use serde::Serialize;
 
 use super::refusal::error_refusals;
 use super::scenes;
-use crate::instruction::{SubGoal, work};
-use crate::place;
-use crate::plan::{PlanOptions, Planner, StageTimings};
-use crate::scenario::Scenario;
+use afford_planner::instruction::{SubGoal, work};
+use afford_planner::place;
+use afford_planner::plan::{PlanOptions, Planner, StageTimings};
+use afford_planner::scenario::Scenario;
 
 /// The robot whose scenes are measured.
 pub const ROBOT: &str = "care_o_bot4";
 
-/// The kind of a transit refusal ([`crate::error::Refusal::NoTransit`]).
+/// The kind of a transit refusal ([`afford_planner::error::Refusal::NoTransit`]).
 pub const TRANSIT_REFUSAL: &str = "no_transit";
 
 /// One scene's outcome.
@@ -41,7 +41,7 @@ pub struct SceneTransits {
     /// Chained refusals that are transit refusals.
     pub transit_refusals: usize,
     /// Whether the instruction puts more into some goal box than its floor
-    /// can hold ([`crate::place::over_capacity`]): no chain plans it all.
+    /// can hold ([`afford_planner::place::over_capacity`]): no chain plans it all.
     pub over_capacity: bool,
 }
 
@@ -211,7 +211,7 @@ mod tests {
                 .subgoals;
             assert!(overfills(&scenario, &goals), "scene {index}");
         }
-        let scenario = crate::scenario::default_scenario().unwrap();
+        let scenario = afford_planner::scenario::default_scenario().unwrap();
         let goals = work(&scenario, PlanOptions::default().seed)
             .unwrap()
             .subgoals;

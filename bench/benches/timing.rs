@@ -1,8 +1,9 @@
 //! The timing stage (spline → SOCP with Clarabel → 100 Hz samples → check)
 //! on seeded random smooth 7-joint paths with iiwa-like limits, at 200, 300
-//! and 400 path segments. The figure of the issue is `timing/200`.
+//! and 400 path segments. The figure `afford bench timing`
+//! reports is `timing/200`.
 
-use afford_planner::timing::bench::{iiwa_limits, random_smooth_path};
+use afford_bench::timing::{iiwa_limits, random_smooth_path};
 use afford_planner::timing::{TimingSettings, TimingStatus, time_parameterize};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use rand::SeedableRng;

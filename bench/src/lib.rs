@@ -1,9 +1,15 @@
+//! # afford-bench
+//!
 //! Benchmarks behind `afford bench`: seeded scene generation and the CQL
 //! experiment that reproduces the paper's Table 1 (CQL against QL, measured
-//! against the BFS oracle), the whole pipeline stage by stage, and the
+//! against the BFS oracle), the whole pipeline stage by stage, the timing
+//! stage on random and example paths, and the
 //! safety campaign (random scenes for both robots, planned and re-checked),
 //! the transit campaign (Care-O-bot sub-goals alone against chained) and
 //! the planned routes against the shortest any-angle paths.
+//!
+//! Built over the planner's public API only (`afford-planner`); the
+//! planner does not depend on this crate.
 
 pub mod cql;
 pub mod generator;
@@ -13,6 +19,7 @@ pub mod refusal;
 pub mod routes;
 pub mod safety;
 pub mod scenes;
+pub mod timing;
 pub mod transits;
 pub mod visibility;
 

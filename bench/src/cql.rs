@@ -7,12 +7,12 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::{generator, mean, median};
-use crate::cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
-use crate::export::{ExportMeta, LearnerRun, LearnerStats, MdpExport};
-use crate::grid::{GridRequest, StateGrid};
-use crate::oracle;
-use crate::scenario::Scenario;
-use crate::task::GridTask;
+use afford_planner::cql::{ContextualQLearner, LearnedPlan, LearnerSettings, QLearner};
+use afford_planner::export::{ExportMeta, LearnerRun, LearnerStats, MdpExport};
+use afford_planner::grid::{GridRequest, StateGrid};
+use afford_planner::oracle;
+use afford_planner::scenario::Scenario;
+use afford_planner::task::GridTask;
 
 /// Benchmark parameters.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,8 +1,8 @@
 //! One Contextual Q-learning solve (task set-up + training + greedy rollout)
 //! on generated scenes of 10×10, 20×20, 40×40 and 80×80 cells.
 
-use afford_planner::bench::cql::first_grid;
-use afford_planner::bench::generator::scene_of_size;
+use afford_bench::cql::first_grid;
+use afford_bench::generator::scene_of_size;
 use afford_planner::grid::StateGrid;
 use afford_planner::{ContextualQLearner, GridTask, LearnerSettings, oracle};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};

@@ -17,7 +17,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 
-use crate::scenario::{PixelBox, Scenario};
+use afford_planner::scenario::{PixelBox, Scenario};
 
 /// The built-in robots the campaign alternates between, in scene order.
 pub const ROBOTS: [&str; 2] = ["kuka_iiwa14", "care_o_bot4"];
@@ -159,7 +159,7 @@ impl<'a> Layout<'a> {
         // Written as a scenario document (the format a user writes), so a
         // field the format gains later takes its documented default.
         let document = json!({
-            "afford": crate::scenario::FORMAT_VERSION,
+            "afford": afford_planner::scenario::FORMAT_VERSION,
             "name": name,
             "camera": {"width": WIDTH as u32, "height": HEIGHT as u32, "pixel_to_base": s.pixel_to_base, "table_z": s.table_z},
             "robot": {"model": model, "start": start},

@@ -3,7 +3,7 @@
 //! sub-goal ran, `robot_state` (the robot's start does not fit it, e.g. no
 //! arm reaches `robot.start`), `instruction` and `other`.
 
-use crate::error::{PlanError, Refusal};
+use afford_planner::error::{PlanError, Refusal};
 
 /// Every kind the campaign counts, in report order.
 pub const REFUSAL_KINDS: [&str; Refusal::KINDS.len() + 3] = {
@@ -40,7 +40,7 @@ pub fn error_refusals(e: &PlanError) -> Vec<(&'static str, String)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::InstructionError;
+    use afford_planner::error::InstructionError;
 
     #[test]
     fn refusal_kinds_cover_every_typed_kind_once() {

@@ -33,8 +33,8 @@ use serde::Serialize;
 
 use super::scenes;
 use super::visibility::{Field, Rect};
-use crate::plan::{PlanOptions, Stage, SubgoalPlan};
-use crate::scenario::{PixelBox, Scenario};
+use afford_planner::plan::{PlanOptions, Stage, SubgoalPlan};
+use afford_planner::scenario::{PixelBox, Scenario};
 
 /// One planned sub-goal's route against the oracle.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -146,7 +146,7 @@ pub fn run_scenario(scenario: &Scenario) -> SceneRoutes {
         until: Stage::Joints,
         ..PlanOptions::default()
     };
-    let Ok(plan) = crate::plan::plan(scenario, &options) else {
+    let Ok(plan) = afford_planner::plan::plan(scenario, &options) else {
         return SceneRoutes::default();
     };
     let mut scene = scenario.clone();

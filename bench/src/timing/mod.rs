@@ -1,6 +1,8 @@
 //! `afford bench timing`: the timing stage on seeded random smooth 7-joint
 //! paths with KUKA LBR iiwa 14-like limits, 200 path segments, then on the
-//! real paths of every example ([`examples`](super::examples)).
+//! real paths of every example ([`examples`]).
+
+pub mod examples;
 
 use std::time::Instant;
 
@@ -8,9 +10,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::examples::measure_examples;
-use super::run::{JointLimits, TimingSettings, time_parameterize};
-use crate::plan::PlanOptions;
+use afford_planner::plan::PlanOptions;
+use afford_planner::timing::{JointLimits, TimingSettings, time_parameterize};
+use examples::measure_examples;
 
 /// iiwa 14 R820 joint velocity limits, rad/s.
 pub const IIWA_VELOCITY: [f64; 7] = [1.48, 1.48, 1.75, 1.31, 2.27, 2.36, 2.36];
@@ -93,11 +95,11 @@ pub struct TimingBenchReport {
     pub segments: usize,
     /// Largest moving time of an example sub-goal over the converged
     /// time-optimal one on the same path and limits (see
-    /// [`examples`](super::examples)).
+    /// [`examples`]).
     pub max_ratio_to_optimal_examples: f64,
     /// Largest moving time of an example sub-goal over the converged
     /// optimum plus the least time any jerk-limited timing must add
-    /// ([`jerk_floor`](super::jerk_floor)): bounds the ratio to the
+    /// ([`jerk_floor`](afford_planner::timing::jerk_floor)): bounds the ratio to the
     /// jerk-limited optimum from above.
     pub max_ratio_to_jerk_floor: f64,
     /// Example sub-goals within 3 % of the converged optimum without jerk

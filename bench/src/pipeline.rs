@@ -5,9 +5,9 @@
 use serde::Serialize;
 
 use super::median;
-use crate::error::PlanError;
-use crate::plan::{Plan, PlanOptions, Planner, StageTimings};
-use crate::scenario::Scenario;
+use afford_planner::error::PlanError;
+use afford_planner::plan::{Plan, PlanOptions, Planner, StageTimings};
+use afford_planner::scenario::Scenario;
 
 /// Median milliseconds per sub-goal of each stage.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]

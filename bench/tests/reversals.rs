@@ -1,14 +1,14 @@
-//! Direction reversals of the joints on the examples' sub-goals (issue 9:
-//! at most 4 per joint per sub-goal; a reversal is a sign change of a
+//! Direction reversals of the joints on the examples' sub-goals (at most
+//! 4 per joint per sub-goal; a reversal is a sign change of a
 //! joint's velocity beyond [`REVERSAL_THRESHOLD`]): where they are, and
 //! regression tests for their sources.
 
 use std::collections::BTreeMap;
 
+use afford_bench::timing::examples::{EXAMPLES, REVERSAL_THRESHOLD, velocity_reversals};
 use afford_planner::lift::LiftedMotion;
 use afford_planner::plan::{PlanOptions, SubgoalPlan, plan};
 use afford_planner::scenario::{Format, parse};
-use afford_planner::timing::examples::{EXAMPLES, REVERSAL_THRESHOLD, velocity_reversals};
 use afford_planner::trajectory::TimedMotion;
 
 /// The phase of every trajectory sample: the nearest joint-path waypoint
@@ -58,7 +58,7 @@ fn sample_phases(sub: &SubgoalPlan, lifted: &LiftedMotion) -> Vec<String> {
 /// with more than 4 each reversal's phase and the joint's excursion since
 /// its previous turn, mrad; then every joint's reversals by phase and
 /// excursion (< 5, 5–20, ≥ 20 mrad). Not run by default:
-/// `cargo test --release -p afford-planner --test reversals -- --ignored --nocapture diagnose_example_reversals`.
+/// `cargo test --release -p afford-bench --test reversals -- --ignored --nocapture diagnose_example_reversals`.
 #[test]
 #[ignore = "measurement: prints where the reversals are"]
 fn diagnose_example_reversals() {

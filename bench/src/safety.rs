@@ -17,9 +17,9 @@ use serde::Serialize;
 
 use super::refusal::{REFUSAL_KINDS, error_refusals};
 use super::scenes;
-use crate::error::PlanError;
-use crate::plan::{Plan, PlanOptions};
-use crate::scenario::Scenario;
+use afford_planner::error::PlanError;
+use afford_planner::plan::{Plan, PlanOptions};
+use afford_planner::scenario::Scenario;
 
 /// Every violation class an independent checker reports (CONTRACTS.md,
 /// afford-check `ViolationClass`), listed in every report with 0 where none.
@@ -341,7 +341,7 @@ pub fn run_scene(
         findings: Vec::new(),
         structural: Structural::default(),
     };
-    let plan = match crate::plan::plan(&scenario, &PlanOptions::default()) {
+    let plan = match afford_planner::plan::plan(&scenario, &PlanOptions::default()) {
         Ok(plan) => plan,
         Err(e) => {
             outcome.refusals = error_refusals(&e);
@@ -486,8 +486,9 @@ mod tests {
 
     #[test]
     fn structural_counts_find_limit_excess_and_jumps() {
-        let scenario = crate::scenario::default_scenario().expect("embedded scenario");
-        let mut plan = crate::plan::plan(&scenario, &PlanOptions::default()).expect("plans");
+        let scenario = afford_planner::scenario::default_scenario().expect("embedded scenario");
+        let mut plan =
+            afford_planner::plan::plan(&scenario, &PlanOptions::default()).expect("plans");
         let robot = RobotModel::load(&scenario.robot.model, std::path::Path::new("."))
             .expect("built-in robot");
         let before = structural(&robot, &plan);
