@@ -8,7 +8,7 @@ mod model;
 mod observation;
 mod validate;
 
-pub use load::{Format, check, load, parse};
+pub use load::{Format, check, load, open_regular, parse};
 pub use model::*;
 pub use observation::{MotionPhase, Observation, PlanPoint};
 pub use validate::validate;

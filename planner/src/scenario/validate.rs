@@ -1,14 +1,15 @@
-//! Validation after parsing: everything serde cannot check (ranges, unique
-//! names, boxes inside the image, a usable calibration) and every size bound
+//! Validation after parsing: everything serde cannot check (ranges, names
+//! an instruction can tell apart, boxes inside the image, a usable calibration) and every size bound
 //! of [`super::bounds`], so no accepted scenario asks for unbounded work.
 //! Returns every issue found, each naming its field path.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use super::bounds::*;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
 use crate::instruction::lexicon::{COLOURS, SHAPES};
+use crate::instruction::name_words;
 use afford_collision::GOAL_WALL;
 
 /// Collects issues; `push(field, message)`.
@@ -141,15 +142,12 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
         let named = items.into_iter().take(max).enumerate();
         elements.extend(named.map(|(i, (n, b, h))| (format!("{list}[{i}]"), n, b, h)));
     }
-    let mut names = HashSet::new();
+    let mut names = Names::default();
     for (field, name, bbox, height) in elements {
         if name.trim().is_empty() {
             push(format!("{field}.name"), "must not be empty".into());
-        } else if !names.insert(name.to_string()) {
-            push(
-                format!("{field}.name"),
-                format!("the name '{name}' is used twice"),
-            );
+        } else if let Some(message) = names.clash(&field, name) {
+            push(format!("{field}.name"), message);
         }
         check_text(&format!("{field}.name"), name, push);
         let box_ok = check_box(s, &format!("{field}.box"), bbox, push);
@@ -173,6 +171,41 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
             }
             check_text(&format!("objects[{i}].{what}"), text, push);
         }
+    }
+}
+
+/// The names seen so far, by the words an instruction reads them as
+/// ([`name_words`]): one name per object, goal and hand, across the three
+/// lists.
+#[derive(Default)]
+struct Names {
+    /// Words → (field, name) of the first element with them.
+    seen: HashMap<Vec<String>, (String, String)>,
+}
+
+impl Names {
+    /// Why `name` (of element `field`) clashes with an earlier name: the
+    /// same name, or one an instruction cannot tell from it (case, Unicode
+    /// form, hyphens and underscores); `None` when it does not. A name of
+    /// no words (only symbols) is named by no instruction and clashes with
+    /// nothing but itself.
+    fn clash(&mut self, field: &str, name: &str) -> Option<String> {
+        let words = name_words(name);
+        let key = match words.is_empty() {
+            true => vec![name.to_string()],
+            false => words,
+        };
+        let Some((first, earlier)) = self.seen.get(&key) else {
+            self.seen
+                .insert(key, (format!("{field}.name"), name.to_string()));
+            return None;
+        };
+        Some(match earlier == name {
+            true => format!("the name '{name}' is used twice (also {first})"),
+            false => format!(
+                "'{name}' and '{earlier}' ({first}) read as the same name: an instruction matches names ignoring case, Unicode form (NFKC) and hyphens, underscores and slashes, so it could not tell them apart; give each object, goal and hand a name of its own words"
+            ),
+        })
     }
 }
 
@@ -201,11 +234,11 @@ fn check_observations(s: &Scenario, camera_ok: bool, push: &mut Push) {
                 )
             }
             (None, Some(when)) => {
-                if when.subgoal >= MAX_OBJECTS {
+                if when.subgoal >= MAX_SUBGOALS {
                     push(
                         field("when.subgoal"),
                         format!(
-                            "must be below {MAX_OBJECTS} (one sub-goal per object), got {}",
+                            "must be below {MAX_SUBGOALS} (the most sub-goals an instruction has), got {}",
                             when.subgoal
                         ),
                     );
