@@ -289,3 +289,61 @@ pub(crate) fn describe(
         f.first.0, f.first.1, f.count
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::robot_bodies;
+    use afford_kinematics::RobotModel;
+
+    /// The configurations the Care-O-bot's right arm (torso included) needs
+    /// for three samples 10 ms apart whose middle one has the torso at
+    /// `torso` rad.
+    fn configurations_through(torso: f64, dt: f64) -> usize {
+        let model = RobotModel::builtin("care_o_bot4").unwrap();
+        let kin = Kinematics::new(&model).unwrap();
+        let bodies = robot_bodies(&model, &kin);
+        let arm = model.arm("right").unwrap();
+        let rest = model.home().to_vec();
+        let start: Vec<f64> = arm.joint_indices.iter().map(|&j| rest[j]).collect();
+        let mut middle = start.clone();
+        let torso_at = (arm.joint_names.iter())
+            .position(|n| n == "torso_2_joint")
+            .unwrap();
+        middle[torso_at] = torso;
+        let positions: [&[f64]; 3] = [&start, &middle, &start];
+        let speeds: Vec<f64> = (arm.joint_indices.iter())
+            .map(|&j| model.joints()[j].velocity)
+            .collect();
+        let phase = Phase {
+            kin: &kin,
+            bodies: &bodies,
+            obstacles: &[],
+            pairs: Vec::new(),
+            rest: &rest,
+            arm: &arm.joint_indices,
+            speeds: &speeds,
+            positions: &positions,
+            times: &[0.0, dt, 2.0 * dt],
+            first_sample: 0,
+        };
+        phase.configurations()
+    }
+
+    /// A torso sample at 100 rad 10 ms from its neighbours is a jump no arm
+    /// makes: checked at its three samples, not cut into the ~3 × 10⁵
+    /// millimetre steps its size asked for (minutes of parry queries).
+    #[test]
+    fn a_joint_jump_the_arm_cannot_make_is_checked_at_its_samples_only() {
+        assert_eq!(configurations_through(100.0, 0.01), 3);
+    }
+
+    /// Motion within the velocity limits is still cut into millimetre steps:
+    /// 0.5 rad of torso over 1 s (limit 1.4 rad/s) moves the arm's far end
+    /// by decimetres.
+    #[test]
+    fn motion_within_the_velocity_limits_is_checked_at_millimetre_steps() {
+        let n = configurations_through(0.5, 1.0);
+        assert!(n > 200, "{n} configurations");
+    }
+}

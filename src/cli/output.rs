@@ -256,6 +256,84 @@ pub fn csv_numbers(p: &TrajectoryPoint) -> String {
 mod tests {
     use super::*;
 
+    /// A fresh folder for one test under the build's temporary folder.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("afford-output-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A character device is written to directly, never replaced: decided
+    /// by `stat` alone (nothing is opened or written here: `/dev/zero` is
+    /// only looked at).
+    #[test]
+    fn a_character_device_is_a_stream_never_replaced() {
+        assert_eq!(destination(Path::new("/dev/zero")), Ok(Destination::Stream));
+    }
+
+    /// A file, a path naming nothing yet and a symlink (to a file, or to
+    /// nothing yet) are replaced at the file's real path; the link stays.
+    #[test]
+    fn a_symlink_is_followed_and_its_target_replaced() {
+        let dir = scratch("symlink");
+        let file = dir.join("plan.json");
+        std::fs::write(&file, "old").unwrap();
+        let real = std::fs::canonicalize(&file).unwrap();
+        assert_eq!(destination(&file), Ok(Destination::Replace(real.clone())));
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink("plan.json", &link).unwrap();
+        assert_eq!(destination(&link), Ok(Destination::Replace(real)));
+        let dangling = dir.join("dangling.json");
+        std::os::unix::fs::symlink("new.json", &dangling).unwrap();
+        assert_eq!(
+            destination(&dangling),
+            Ok(Destination::Replace(dir.join("new.json")))
+        );
+        emit("new\n", Some(&link)).unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new\n");
+    }
+
+    /// A folder is refused saying so; a loop of symlinks is refused, not
+    /// followed forever.
+    #[test]
+    fn a_folder_or_a_symlink_loop_is_refused_saying_what_it_is() {
+        let dir = scratch("refused");
+        assert!(destination(&dir).unwrap_err().contains("is a folder"));
+        let (a, b) = (dir.join("a"), dir.join("b"));
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let why = destination(&a).unwrap_err();
+        assert!(why.contains("symbolic links"), "{why}");
+    }
+
+    /// A FIFO is a stream: written to directly, left a FIFO.
+    #[test]
+    fn a_fifo_is_written_as_a_stream_and_stays_a_fifo() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch("fifo");
+        let fifo = dir.join("plan.fifo");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        assert_eq!(destination(&fifo), Ok(Destination::Stream));
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        emit("through the pipe\n", Some(&fifo)).unwrap();
+        assert_eq!(reader.join().unwrap(), "through the pipe\n");
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    }
+
     /// A name with a comma or a quote stays one CSV field.
     #[test]
     fn csv_text_with_a_comma_or_quote_stays_one_field() {

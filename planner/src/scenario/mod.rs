@@ -5,6 +5,7 @@
 pub mod bounds;
 mod load;
 mod model;
+mod names;
 mod observation;
 mod validate;
 

@@ -3,13 +3,13 @@
 //! of [`super::bounds`], so no accepted scenario asks for unbounded work.
 //! Returns every issue found, each naming its field path.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use super::bounds::*;
+use super::names::Names;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
 use crate::instruction::lexicon::{COLOURS, SHAPES};
-use crate::instruction::name_words;
 use afford_collision::GOAL_WALL;
 
 /// Collects issues; `push(field, message)`.
@@ -171,41 +171,6 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
             }
             check_text(&format!("objects[{i}].{what}"), text, push);
         }
-    }
-}
-
-/// The names seen so far, by the words an instruction reads them as
-/// ([`name_words`]): one name per object, goal and hand, across the three
-/// lists.
-#[derive(Default)]
-struct Names {
-    /// Words → (field, name) of the first element with them.
-    seen: HashMap<Vec<String>, (String, String)>,
-}
-
-impl Names {
-    /// Why `name` (of element `field`) clashes with an earlier name: the
-    /// same name, or one an instruction cannot tell from it (case, Unicode
-    /// form, hyphens and underscores); `None` when it does not. A name of
-    /// no words (only symbols) is named by no instruction and clashes with
-    /// nothing but itself.
-    fn clash(&mut self, field: &str, name: &str) -> Option<String> {
-        let words = name_words(name);
-        let key = match words.is_empty() {
-            true => vec![name.to_string()],
-            false => words,
-        };
-        let Some((first, earlier)) = self.seen.get(&key) else {
-            self.seen
-                .insert(key, (format!("{field}.name"), name.to_string()));
-            return None;
-        };
-        Some(match earlier == name {
-            true => format!("the name '{name}' is used twice (also {first})"),
-            false => format!(
-                "'{name}' and '{earlier}' ({first}) read as the same name: an instruction matches names ignoring case, Unicode form (NFKC) and hyphens, underscores and slashes, so it could not tell them apart; give each object, goal and hand a name of its own words"
-            ),
-        })
     }
 }
 
