@@ -196,8 +196,7 @@ fn write_scenes(dir: &std::path::Path, seed: u64, count: usize) -> Result<(), Fa
     for k in 0..count {
         let text =
             serde_saphyr::to_string(&scenes::scene(seed, k)).map_err(|e| fail(e.to_string()))?;
-        std::fs::write(dir.join(format!("safety-{seed}-{k}.yaml")), text)
-            .map_err(|e| fail(e.to_string()))?;
+        super::output::emit(&text, Some(&dir.join(format!("safety-{seed}-{k}.yaml"))))?;
     }
     Ok(())
 }

@@ -194,3 +194,22 @@ fn a_fifo_given_as_scenario_or_plan_is_refused_not_waited_on() {
         assert_contains_all(&args.join(" "), &said, &["FIFO", "not a regular file"]);
     }
 }
+
+/// A robot description that is a FIFO (`robot.model: robot.yaml`) is
+/// refused like a scenario, not waited on.
+#[test]
+fn a_fifo_given_as_robot_description_is_refused_not_waited_on() {
+    let dir = scratch_dir("fifo-robot");
+    mkfifo(&dir.join("robot.yaml"));
+    let yaml = std::fs::read_to_string(repo().join("examples/sort-blue-squares.yaml"))
+        .expect("example")
+        .replace("model: kuka_iiwa14", "model: robot.yaml");
+    let scenario = dir.join("scene.yaml");
+    std::fs::write(&scenario, yaml).expect("write");
+    let err = dir.join("stderr.txt");
+    let stderr = Stdio::from(std::fs::File::create(&err).expect("stderr file"));
+    let code = run_with(&["plan", text(&scenario)], Stdio::null(), stderr);
+    assert_eq!(code, Some(2));
+    let said = std::fs::read_to_string(&err).expect("stderr");
+    assert_contains_all("stderr", &said, &["robot.yaml", "FIFO"]);
+}

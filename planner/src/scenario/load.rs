@@ -47,60 +47,12 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     };
     // Read one byte more than allowed: a larger file is refused unread.
     let mut text = String::new();
-    open_regular(path)
+    afford_kinematics::open_regular(path)
         .map_err(io)?
         .take(MAX_FILE_BYTES + 1)
         .read_to_string(&mut text)
         .map_err(io)?;
     parse(&text, format, &file)
-}
-
-/// Opens `path` for reading when it is a regular file (symlinks followed).
-/// Anything else is refused before it is opened, with what it is: opening
-/// a FIFO waits for a writer that may never come, a character device
-/// (`/dev/zero`) never ends, a folder has no text. Input files (scenarios,
-/// plans) are read through here.
-pub fn open_regular(path: &Path) -> std::io::Result<std::fs::File> {
-    let refuse = |kind: std::fs::FileType| {
-        Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!(
-                "is {}, not a regular file: afford reads scenarios and plans from files",
-                special_kind(kind)
-            ),
-        ))
-    };
-    let kind = std::fs::metadata(path)?.file_type();
-    if !kind.is_file() {
-        return refuse(kind);
-    }
-    let file = std::fs::File::open(path)?;
-    // Swapped for something else between the look and the opening.
-    match file.metadata()?.file_type() {
-        kind if kind.is_file() => Ok(file),
-        kind => refuse(kind),
-    }
-}
-
-/// What a file that is not a regular file is, in words.
-fn special_kind(kind: std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if kind.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if kind.is_char_device() || kind.is_block_device() {
-            return "a device";
-        }
-        if kind.is_socket() {
-            return "a socket";
-        }
-    }
-    match kind.is_dir() {
-        true => "a folder",
-        false => "a special file",
-    }
 }
 
 /// Validates a scenario built in code (parsing validates files already);

@@ -9,7 +9,8 @@ mod names;
 mod observation;
 mod validate;
 
-pub use load::{Format, check, load, open_regular, parse};
+pub use afford_kinematics::open_regular;
+pub use load::{Format, check, load, parse};
 pub use model::*;
 pub use observation::{MotionPhase, Observation, PlanPoint};
 pub use validate::validate;
