@@ -34,6 +34,7 @@ fn run_with(args: &[&str], stdout: Stdio, stderr: Stdio) -> Option<i32> {
         std::thread::sleep(Duration::from_millis(20));
     }
     let _ = child.kill();
+    let _ = child.wait();
     panic!("afford {} still ran after 60 s", args.join(" "));
 }
 
