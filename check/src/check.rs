@@ -79,6 +79,13 @@ pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> R
             return report;
         }
     };
+    let stated = start::scenario_joint_issues(scenario, robot);
+    if !stated.is_empty() {
+        for (field, message) in stated {
+            report.push(C::Start, None, format!("the scenario's {field}: {message}"));
+        }
+        return report;
+    }
     let q = match start::state(robot, plan.start_state.as_ref()) {
         Ok(q) => q,
         Err(e) => {
@@ -401,6 +408,9 @@ impl Phases<'_> {
             .iter()
             .map(|p| p.time_from_start)
             .collect();
+        let speeds: Vec<f64> = (self.arm.joint_indices.iter())
+            .map(|&j| r.model.joints()[j].velocity)
+            .collect();
         let phases: Vec<Phase> = plans
             .iter()
             .flatten()
@@ -411,6 +421,7 @@ impl Phases<'_> {
                 pairs: self.pairs(obstacles, bodies),
                 rest,
                 arm: &self.arm.joint_indices,
+                speeds: &speeds,
                 positions: &positions[from..=to],
                 times: &times[from..=to],
                 first_sample: from,

@@ -5,6 +5,13 @@
 //! pair is measured with parry: robot bodies and the held object against
 //! the obstacles with their margins, and against each other.
 //!
+//! Only motion the arm can make is cut so: an interval in which some joint
+//! moves faster than its velocity limit (a `velocity` violation already,
+//! [`crate::rates`]) is checked at its two samples alone. The work of an
+//! interval is then bounded by the velocity limits, not by the values in the
+//! file: a single sample at 100 rad on the Care-O-bot's torso asked for
+//! some 3 × 10⁵ configurations (minutes of parry queries) before.
+//!
 //! A pair is skipped at a checked configuration only when it provably keeps
 //! its margin there: after a measurement with slack `d - margin`, the pair
 //! cannot lose that slack before the two bodies' accumulated motion bounds
@@ -17,6 +24,7 @@ use parry3d::math::Pose as PPose;
 
 use crate::bodies::Body;
 use crate::chain::{Kinematics, to_parry};
+use crate::rates::RATE_TOLERANCE;
 use crate::report::{ViolationClass, ViolationData};
 use crate::scene::{Obstacle, Role, signed_distance};
 
@@ -56,6 +64,8 @@ pub(crate) struct Phase<'a> {
     pub rest: &'a [f64],
     /// Robot joint index of each arm joint.
     pub arm: &'a [usize],
+    /// Velocity limit of each arm joint, rad/s or m/s.
+    pub speeds: &'a [f64],
     /// Arm positions and times of the phase's samples, in order.
     pub positions: &'a [&'a [f64]],
     pub times: &'a [f64],
@@ -78,16 +88,25 @@ impl Phase<'_> {
     /// Number of configurations the phase needs (before any work).
     pub(crate) fn configurations(&self) -> usize {
         let mut dq = vec![0.0; self.rest.len()];
-        self.positions
-            .windows(2)
-            .map(|w| self.substeps(w[0], w[1], &mut dq))
+        (0..self.positions.len().saturating_sub(1))
+            .map(|i| self.substeps(i, &mut dq))
             .sum::<usize>()
             + 1
     }
 
-    fn substeps(&self, a: &[f64], b: &[f64], dq: &mut [f64]) -> usize {
+    /// Configurations checked from sample `i` up to (not including) sample
+    /// `i + 1`; `dq` is left holding the interval's joint motion. One (the
+    /// sample itself) when the arm cannot make the motion in its time.
+    fn substeps(&self, i: usize, dq: &mut [f64]) -> usize {
+        let (a, b) = (self.positions[i], self.positions[i + 1]);
+        let dt = self.times[i + 1] - self.times[i];
         for (k, &j) in self.arm.iter().enumerate() {
             dq[j] = b[k] - a[k];
+        }
+        let too_fast = (self.arm.iter().zip(self.speeds))
+            .any(|(&j, &vmax)| dq[j].abs() > vmax * (1.0 + RATE_TOLERANCE) * dt);
+        if too_fast {
+            return 1;
         }
         let bound = self
             .bodies
@@ -116,7 +135,7 @@ impl Phase<'_> {
                 );
                 break;
             };
-            let n = self.substeps(a, b, &mut dq);
+            let n = self.substeps(i, &mut dq);
             for s in 0..n {
                 let f = s as f64 / n as f64;
                 self.set(&mut q, a, b, f);
@@ -269,4 +288,62 @@ pub(crate) fn describe(
         "{what} at t = {t:.3} s (sample {sample}); first at t = {:.3} s (sample {}), {} checked configurations",
         f.first.0, f.first.1, f.count
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::robot_bodies;
+    use afford_kinematics::RobotModel;
+
+    /// The configurations the Care-O-bot's right arm (torso included) needs
+    /// for three samples 10 ms apart whose middle one has the torso at
+    /// `torso` rad.
+    fn configurations_through(torso: f64, dt: f64) -> usize {
+        let model = RobotModel::builtin("care_o_bot4").unwrap();
+        let kin = Kinematics::new(&model).unwrap();
+        let bodies = robot_bodies(&model, &kin);
+        let arm = model.arm("right").unwrap();
+        let rest = model.home().to_vec();
+        let start: Vec<f64> = arm.joint_indices.iter().map(|&j| rest[j]).collect();
+        let mut middle = start.clone();
+        let torso_at = (arm.joint_names.iter())
+            .position(|n| n == "torso_2_joint")
+            .unwrap();
+        middle[torso_at] = torso;
+        let positions: [&[f64]; 3] = [&start, &middle, &start];
+        let speeds: Vec<f64> = (arm.joint_indices.iter())
+            .map(|&j| model.joints()[j].velocity)
+            .collect();
+        let phase = Phase {
+            kin: &kin,
+            bodies: &bodies,
+            obstacles: &[],
+            pairs: Vec::new(),
+            rest: &rest,
+            arm: &arm.joint_indices,
+            speeds: &speeds,
+            positions: &positions,
+            times: &[0.0, dt, 2.0 * dt],
+            first_sample: 0,
+        };
+        phase.configurations()
+    }
+
+    /// A torso sample at 100 rad 10 ms from its neighbours is a jump no arm
+    /// makes: checked at its three samples, not cut into the ~3 × 10⁵
+    /// millimetre steps its size asked for (minutes of parry queries).
+    #[test]
+    fn a_joint_jump_the_arm_cannot_make_is_checked_at_its_samples_only() {
+        assert_eq!(configurations_through(100.0, 0.01), 3);
+    }
+
+    /// Motion within the velocity limits is still cut into millimetre steps:
+    /// 0.5 rad of torso over 1 s (limit 1.4 rad/s) moves the arm's far end
+    /// by decimetres.
+    #[test]
+    fn motion_within_the_velocity_limits_is_checked_at_millimetre_steps() {
+        let n = configurations_through(0.5, 1.0);
+        assert!(n > 200, "{n} configurations");
+    }
 }

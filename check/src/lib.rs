@@ -66,5 +66,5 @@ pub use placement::PLACEMENT_TOLERANCE;
 pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
 pub use report::{Report, Violation, ViolationClass, ViolationData};
 pub use scene::{GOAL_WALL, TABLE_THICKNESS};
-pub use start::{START_TILT, START_TOLERANCE};
+pub use start::{START_TILT, START_TOLERANCE, scenario_joint_issues};
 pub use tool_speed::TOOL_SPEED_TOLERANCE;

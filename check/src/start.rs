@@ -49,6 +49,40 @@ impl StartRule {
     }
 }
 
+/// What is wrong with the scenario's `robot.joints` for `robot`, as
+/// (field, message): a joint of the robot not given, a name that is no
+/// joint of it, a value outside the joint's limits (by more than
+/// [`START_TOLERANCE`]; a continuous joint takes any value the scenario
+/// accepts). Empty when `robot.joints` is absent or fits. The start rule
+/// compares the plan with these values, so a value the robot cannot take
+/// would let the check follow a motion from it (a 100 rad torso asked for
+/// minutes of collision queries).
+pub fn scenario_joint_issues(s: &Scenario, robot: &RobotModel) -> Vec<(String, String)> {
+    let Some(given) = &s.robot.joints else {
+        return Vec::new();
+    };
+    let field = |name: &str| format!("robot.joints.{name}");
+    let joints = robot.joints();
+    let missing = joints
+        .iter()
+        .filter(|j| !given.contains_key(&j.name))
+        .map(|j| {
+            let message = format!("missing: the robot {} has this joint", robot.name());
+            (field(&j.name), message)
+        });
+    let wrong = given.iter().filter_map(|(name, &v)| {
+        let message = match robot.joint_index(name).map(|i| &joints[i]) {
+            None => format!("is not a joint of the robot {}", robot.name()),
+            Some(j) if !(v >= j.lower - START_TOLERANCE && v <= j.upper + START_TOLERANCE) => {
+                format!("{v} is outside the joint limits {} .. {}", j.lower, j.upper)
+            }
+            Some(_) => return None,
+        };
+        Some((field(name), message))
+    });
+    missing.chain(wrong).collect()
+}
+
 /// The start state's values in robot joint order; `Err` says what is malformed.
 pub(crate) fn state(robot: &RobotModel, start: Option<&StartState>) -> Result<Vec<f64>, String> {
     let s = start.ok_or("start_state is missing: the plan must say where the robot is at t = 0")?;

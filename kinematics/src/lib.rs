@@ -19,6 +19,7 @@ mod choose;
 mod description;
 mod error;
 mod ik;
+mod input;
 mod kchain;
 mod load;
 mod math;
@@ -38,6 +39,7 @@ pub use description::{
 };
 pub use error::{IkFailure, KinematicsError};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
+pub use input::open_regular;
 pub use kchain::KBaseline;
 pub use load::DEFAULT_JERK_RAMP_S;
 pub use math::*;

@@ -90,7 +90,7 @@ impl RobotModel {
             };
             // One byte more than allowed: the parsers refuse a larger file.
             let mut text = String::new();
-            std::fs::File::open(p)
+            crate::open_regular(p)
                 .map_err(io)?
                 .take(MAX_FILE_BYTES + 1)
                 .read_to_string(&mut text)

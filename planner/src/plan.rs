@@ -338,6 +338,7 @@ impl Planner {
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
         scenario.validate()?;
+        start::check_stated_joints(scenario, &self.options.base_dir)?;
         let mut timings = StageTimings::default();
         let Interpretation {
             subgoals: goals,

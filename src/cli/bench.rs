@@ -15,7 +15,7 @@ use afford_bench::timing::{TimingBenchSettings, timing_benchmark};
 use afford_planner::PlanOptions;
 
 use super::executed;
-use super::output::print;
+use super::output::{note, print};
 use super::plan::{base_dir, load};
 use super::{
     BenchCqlArgs, BenchIkArgs, BenchMonitorArgs, BenchPipelineArgs, BenchRoutesArgs,
@@ -69,7 +69,9 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
 }
 
 pub fn collision(args: &BenchSeedArgs) -> Result<(), Failure> {
-    eprintln!("afford: cross-checking 1,000 random paths against dense sampling…");
+    note(format_args!(
+        "afford: cross-checking 1,000 random paths against dense sampling…"
+    ));
     let report = afford_collision::collision_benchmark(args.seed)
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     if args.json {
@@ -194,8 +196,7 @@ fn write_scenes(dir: &std::path::Path, seed: u64, count: usize) -> Result<(), Fa
     for k in 0..count {
         let text =
             serde_saphyr::to_string(&scenes::scene(seed, k)).map_err(|e| fail(e.to_string()))?;
-        std::fs::write(dir.join(format!("safety-{seed}-{k}.yaml")), text)
-            .map_err(|e| fail(e.to_string()))?;
+        super::output::emit(&text, Some(&dir.join(format!("safety-{seed}-{k}.yaml"))))?;
     }
     Ok(())
 }

@@ -1,7 +1,9 @@
 //! `afford check`: the independent gate (crate `afford-check`) over a plan
 //! file and its scenario. Exit 0 when the plan passes, 1 with violations
 //! (one line each on stdout: class, sub-goal, message), 2 when the scenario,
-//! the robot or the plan file cannot be read. `--physics` adds the physical
+//! the robot or the plan file cannot be read (a plan file that is no
+//! regular file, a FIFO, is refused unread) or `robot.joints` does not fit
+//! the robot, 3 when the verdict cannot be written. `--physics` adds the physical
 //! replay (rapier3d) after the other checks: class `physics`, its time and
 //! what it found in a line on stderr.
 
@@ -13,7 +15,7 @@ use afford_collision::replay::ReplayReport;
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
-use super::output::emit;
+use super::output::{emit, note};
 use super::plan::{load, load_robot};
 use super::{CheckArgs, ExitKind, Failure};
 
@@ -30,6 +32,7 @@ struct JsonReport<'a> {
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let scenario = load(Some(&args.scenario))?;
     let robot = load_robot(&scenario, Some(&args.scenario))?;
+    joints_fit(&args.scenario, &scenario, &robot)?;
     let plan = read_plan_file(&args.plan)?;
     let mut report = check_plan(&scenario, &robot, &plan);
     let replayed = match args.physics {
@@ -55,10 +58,10 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     match report.violations.len() {
         0 => {
             if !args.json {
-                eprintln!(
+                note(format_args!(
                     "{name}: {} sub-goal(s) pass every check",
                     plan.subgoals.len()
-                );
+                ));
             }
             Ok(())
         }
@@ -67,6 +70,33 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             format!("{name}: {n} violation(s)"),
         )),
     }
+}
+
+/// The scenario's `robot.joints` fit the robot by the gate's own reading
+/// ([`afford_check::scenario_joint_issues`]): else bad input (exit 2), each
+/// field named, before any plan is read.
+fn joints_fit(
+    path: &Path,
+    scenario: &afford_planner::Scenario,
+    robot: &RobotModel,
+) -> Result<(), Failure> {
+    let issues = afford_check::scenario_joint_issues(scenario, robot);
+    if issues.is_empty() {
+        return Ok(());
+    }
+    let lines: Vec<String> = issues
+        .iter()
+        .map(|(field, message)| format!("\n  - {field}: {message}"))
+        .collect();
+    Err(Failure::new(
+        ExitKind::BadInput,
+        format!(
+            "{}: the robot's state does not fit {}:{}",
+            path.display(),
+            robot.name(),
+            lines.concat()
+        ),
+    ))
 }
 
 /// Runs the physical replay, adds its violations to `report` and returns
@@ -84,14 +114,14 @@ fn physics(
     if let Some(r) = replayed.as_ref().filter(|r| r.steps > 0) {
         let moved = r.pieces.iter().filter(|p| p.moved).count();
         let inside = r.targets.iter().filter(|t| t.in_goal).count();
-        eprintln!(
+        note(format_args!(
             "physics: {} steps of {} ms in {:.0} ms: {inside} of {} pieces in their goal, {moved} other piece(s) moved, {} contact(s)",
             r.steps,
             r.step * 1e3,
             started.elapsed().as_secs_f64() * 1e3,
             r.targets.len(),
             r.contacts.len()
-        );
+        ));
     }
     report.violations.extend(found.violations);
     replayed
@@ -100,7 +130,8 @@ fn physics(
 /// Reads at most [`MAX_PLAN_BYTES`] (+1 to tell a larger file) and parses it.
 fn read_plan_file(path: &Path) -> Result<PlanFile, Failure> {
     let bad = |m: String| Failure::new(ExitKind::BadInput, format!("{}: {m}", path.display()));
-    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot read the file: {e}")))?;
+    let file = afford_planner::scenario::open_regular(path)
+        .map_err(|e| bad(format!("cannot read the file: {e}")))?;
     let mut bytes = Vec::new();
     file.take(MAX_PLAN_BYTES as u64 + 1)
         .read_to_end(&mut bytes)

@@ -7,7 +7,7 @@ use std::path::Path;
 use afford_bench::cql::generated_export;
 use afford_planner::export::{MdpExport, scenario_exports};
 
-use super::output::emit;
+use super::output::{emit, note};
 use super::plan::{load, load_robot};
 use super::validate::gripper_pixel;
 use super::{ExitKind, ExportMdpArgs, Failure, ValidateArgs};
@@ -43,11 +43,11 @@ pub fn run(args: &ExportMdpArgs) -> Result<(), Failure> {
     for export in &exports {
         write(&args.output, export)?;
     }
-    eprintln!(
+    note(format_args!(
         "afford: wrote {} MDP files to {}",
         exports.len(),
         args.output.display()
-    );
+    ));
     Ok(())
 }
 

@@ -4,7 +4,7 @@ mod bench;
 mod check;
 mod executed;
 mod export;
-mod output;
+pub mod output;
 mod plan;
 mod robots;
 mod run;
@@ -329,6 +329,10 @@ pub enum ExitKind {
     CouldNotPlan = 1,
     /// 2: bad input (unreadable or invalid scenario, bad arguments).
     BadInput = 2,
+    /// 3: the result could not be written (standard output, or the file of
+    /// `-o`/`--svg`: a full disk, a missing folder, a path that is a
+    /// folder, a socket or a block device).
+    Output = 3,
 }
 
 impl Failure {

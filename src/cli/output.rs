@@ -1,13 +1,27 @@
-//! Serialising results and writing them whole: a file is written to a
-//! temporary sibling and renamed, so no reader ever sees half a plan.
+//! Serialising results and writing them: standard output, standard error
+//! and the files of `-o` and `--svg`. Nothing here panics on a closed or
+//! full stream, and a write that fails is exit 3 (`ExitKind::Output`).
+//!
+//! A file is written whole: to a temporary sibling, then renamed over the
+//! path, so no reader ever sees half a plan. What the path names decides
+//! how ([`destination`]): a regular file or nothing yet is replaced so; a
+//! symlink is followed and its target replaced (the link stays a link); a
+//! character device or a FIFO (`/dev/stdout`, a terminal, a named pipe) is
+//! written to directly, as a stream, since a rename would put a regular
+//! file in the place of the device node; a folder, a socket or a block
+//! device is refused.
 
+use std::fs::{File, OpenOptions};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use afford_planner::timing::TrajectoryPoint;
 use serde::Serialize;
 
 use super::{ExitKind, Failure, OutputFormat};
+
+/// Most symbolic links followed from an output path (Linux's own limit).
+const MAX_SYMLINKS: usize = 40;
 
 pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, Failure> {
     let text = match format {
@@ -26,42 +40,143 @@ pub fn render<T: Serialize>(value: &T, format: OutputFormat) -> Result<String, F
 }
 
 /// Writes `text` to standard output. A reader that stops early (`| head`)
-/// closes the pipe: that is not an error, the rest is dropped quietly.
-/// Every command prints through here, never with `print!` (which panics on
-/// a closed pipe).
+/// closes the pipe: that is not an error, the rest is dropped quietly; any
+/// other failure (a full disk) is exit 3. Every command prints through
+/// here, never with `print!` (which panics on a closed pipe).
 pub fn print(text: &str) -> Result<(), Failure> {
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::new(
-            ExitKind::CouldNotPlan,
+            ExitKind::Output,
             format!("cannot write to standard output: {e}"),
         )),
         _ => Ok(()),
     }
 }
 
-/// Writes `text` to `path` atomically, or to stdout when `path` is `None`.
-/// The temporary sibling is this process's own (`FILE.PID.partial`: two
-/// runs writing one file never mix their halves) and is removed when the
-/// write or the rename fails (`-o` naming a folder left `DIR.partial`).
+/// Writes one line to standard error. Messages go here, never through
+/// `eprintln!` (which panics on a closed or full stderr, exit 101): when
+/// stderr cannot take the line, the line is dropped and the command goes on
+/// to write its result and exit with its own code.
+pub fn note(line: std::fmt::Arguments) {
+    let mut err = std::io::stderr().lock();
+    // Nowhere is left to report a failure to report.
+    let _ = err.write_fmt(format_args!("{line}\n"));
+}
+
+/// How a result is written to a path.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Destination {
+    /// To a temporary sibling of this file, renamed over it: the path
+    /// itself, or the target of the symlink(s) it names.
+    Replace(PathBuf),
+    /// Straight into the path, opened for writing: a character device or a
+    /// FIFO.
+    Stream,
+}
+
+/// How a result for `path` is written, or why it is not (`Err`: what the
+/// path is). The kind is read through every symlink (`stat`: also through
+/// `/dev/stdout`'s links into `/proc`, which name no file); only a regular
+/// file is replaced, at its real path.
+pub fn destination(path: &Path) -> Result<Destination, String> {
+    let kind = match std::fs::metadata(path) {
+        Ok(meta) => meta.file_type(),
+        // Nothing there yet, or a symlink that leads nowhere: created at
+        // the link's end.
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return link_end(path).map(Destination::Replace);
+        }
+        Err(e) => return Err(e.to_string()),
+    };
+    if kind.is_file() {
+        let real = std::fs::canonicalize(path).map_err(|e| e.to_string())?;
+        return Ok(Destination::Replace(real));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_char_device() || kind.is_fifo() {
+            return Ok(Destination::Stream);
+        }
+        if kind.is_block_device() {
+            return Err("is a block device (a disk): afford does not write over one".into());
+        }
+    }
+    match kind.is_dir() {
+        true => Err("is a folder: name a file in it".into()),
+        false => Err(
+            "is a socket or another special file: afford writes regular files, character devices and FIFOs"
+                .into(),
+        ),
+    }
+}
+
+/// Where a path that names nothing yet is created: the path itself, or
+/// the end of the chain of symlinks it starts (a relative link read from
+/// the folder the link is in).
+fn link_end(path: &Path) -> Result<PathBuf, String> {
+    let mut at = path.to_path_buf();
+    for _ in 0..MAX_SYMLINKS {
+        let is_link = std::fs::symlink_metadata(&at).is_ok_and(|m| m.file_type().is_symlink());
+        if !is_link {
+            return Ok(at);
+        }
+        let next = std::fs::read_link(&at).map_err(|e| e.to_string())?;
+        at = match at.parent() {
+            Some(folder) if next.is_relative() => folder.join(next),
+            _ => next,
+        };
+    }
+    Err(format!(
+        "more than {MAX_SYMLINKS} symbolic links lead on from it"
+    ))
+}
+
+/// Writes `text` to `path` by its [`destination`], or to stdout when `path`
+/// is `None`. A failure is exit 3 naming the path.
 pub fn emit(text: &str, path: Option<&Path>) -> Result<(), Failure> {
     let Some(path) = path else {
         return print(text);
     };
-    let bad = |e: std::io::Error| {
+    let written = destination(path).and_then(|to| {
+        match to {
+            Destination::Replace(target) => replace(text, &target),
+            Destination::Stream => stream(text, path),
+        }
+        .map_err(|e| e.to_string())
+    });
+    written.map_err(|why| {
         Failure::new(
-            ExitKind::BadInput,
-            format!("{}: cannot write: {e}", path.display()),
+            ExitKind::Output,
+            format!("{}: cannot write: {why}", path.display()),
         )
-    };
-    let mut tmp = path.as_os_str().to_owned();
+    })
+}
+
+/// Writes `text` to a temporary sibling of `target` and renames it over
+/// `target`. The temporary is this process's own (`FILE.PID.partial`: two
+/// runs writing one file never mix their halves) and is removed when the
+/// write or the rename fails.
+fn replace(text: &str, target: &Path) -> std::io::Result<()> {
+    let mut tmp = target.as_os_str().to_owned();
     tmp.push(format!(".{}.partial", std::process::id()));
-    let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    let written = File::create(&tmp)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .and_then(|()| std::fs::rename(&tmp, target));
     if written.is_err() {
         // Best effort: the temporary may not exist; the error is the write's.
         let _ = std::fs::remove_file(&tmp);
     }
-    written.map_err(bad)
+    written
+}
+
+/// Writes `text` straight into the device or FIFO at `path` (a FIFO waits
+/// for its reader, as for any program writing to one).
+fn stream(text: &str, path: &Path) -> std::io::Result<()> {
+    let mut file = OpenOptions::new().write(true).open(path)?;
+    file.write_all(text.as_bytes())?;
+    file.flush()
 }
 
 /// The trajectories of a plan as CSV, one row per sample: sub-goal index,
@@ -140,6 +255,84 @@ pub fn csv_numbers(p: &TrajectoryPoint) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A fresh folder for one test under the build's temporary folder.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("afford-output-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// A character device is written to directly, never replaced: decided
+    /// by `stat` alone (nothing is opened or written here: `/dev/zero` is
+    /// only looked at).
+    #[test]
+    fn a_character_device_is_a_stream_never_replaced() {
+        assert_eq!(destination(Path::new("/dev/zero")), Ok(Destination::Stream));
+    }
+
+    /// A file, a path naming nothing yet and a symlink (to a file, or to
+    /// nothing yet) are replaced at the file's real path; the link stays.
+    #[test]
+    fn a_symlink_is_followed_and_its_target_replaced() {
+        let dir = scratch("symlink");
+        let file = dir.join("plan.json");
+        std::fs::write(&file, "old").unwrap();
+        let real = std::fs::canonicalize(&file).unwrap();
+        assert_eq!(destination(&file), Ok(Destination::Replace(real.clone())));
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink("plan.json", &link).unwrap();
+        assert_eq!(destination(&link), Ok(Destination::Replace(real)));
+        let dangling = dir.join("dangling.json");
+        std::os::unix::fs::symlink("new.json", &dangling).unwrap();
+        assert_eq!(
+            destination(&dangling),
+            Ok(Destination::Replace(dir.join("new.json")))
+        );
+        emit("new\n", Some(&link)).unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new\n");
+    }
+
+    /// A folder is refused saying so; a loop of symlinks is refused, not
+    /// followed forever.
+    #[test]
+    fn a_folder_or_a_symlink_loop_is_refused_saying_what_it_is() {
+        let dir = scratch("refused");
+        assert!(destination(&dir).unwrap_err().contains("is a folder"));
+        let (a, b) = (dir.join("a"), dir.join("b"));
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let why = destination(&a).unwrap_err();
+        assert!(why.contains("symbolic links"), "{why}");
+    }
+
+    /// A FIFO is a stream: written to directly, left a FIFO.
+    #[test]
+    fn a_fifo_is_written_as_a_stream_and_stays_a_fifo() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch("fifo");
+        let fifo = dir.join("plan.fifo");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        assert_eq!(destination(&fifo), Ok(Destination::Stream));
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        emit("through the pipe\n", Some(&fifo)).unwrap();
+        assert_eq!(reader.join().unwrap(), "through the pipe\n");
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    }
 
     /// A name with a comma or a quote stays one CSV field.
     #[test]

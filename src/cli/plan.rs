@@ -8,7 +8,7 @@ use afford_planner::scenario::{self, Scenario, bounds};
 use afford_planner::timing::TimingSettings;
 use afford_planner::{Plan, PlanError, PlanOptions, plan};
 
-use super::output::{emit, render, render_csv};
+use super::output::{emit, note, render, render_csv};
 use super::{ExitKind, Failure, OutputFormat, PlanArgs};
 
 pub fn run(args: &PlanArgs) -> Result<(), Failure> {
@@ -61,8 +61,8 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         draw(&scenario, &plan, &robot, svg)?;
     }
     emit(&text, args.output.as_deref())?;
-    for note in &plan.skipped {
-        eprintln!("afford: left where it is: {note}");
+    for skipped in &plan.skipped {
+        note(format_args!("afford: left where it is: {skipped}"));
     }
     if plan.unsolved.is_empty() {
         return Ok(());

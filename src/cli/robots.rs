@@ -48,6 +48,5 @@ pub fn acm(args: &AcmArgs) -> Result<(), Failure> {
     };
     let matrix = AllowedCollisionMatrix::derive(&model, &settings)
         .map_err(|e| bad(format!("afford robots acm: {e}")))?;
-    print!("{}", matrix.to_yaml());
-    Ok(())
+    print(&matrix.to_yaml())
 }

@@ -18,7 +18,7 @@ use afford_planner::{JointState, PlanError, PlanOptions, plan};
 use serde::Serialize;
 
 use super::executed::{self, RunReplay};
-use super::output::{csv_header, csv_numbers, csv_text, emit, render};
+use super::output::{csv_header, csv_numbers, csv_text, emit, note, render};
 use super::plan::{base_dir, load, load_robot};
 use super::{ExitKind, Failure, OutputFormat, RunArgs};
 
@@ -85,10 +85,10 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     let delivered = timeline::play(&mut monitor, &scenario.observations);
     if delivered < scenario.observations.len() {
-        eprintln!(
+        note(format_args!(
             "afford run: observations[{delivered}..{}] never came due: the run ended first",
             scenario.observations.len()
-        );
+        ));
     }
     let files =
         executed::files(&monitor, &robot).map_err(|e| Failure::new(ExitKind::CouldNotPlan, e))?;
@@ -199,10 +199,10 @@ fn physics_summary(replayed: &RunReplay) {
         .filter(|p| p.moved)
         .count();
     let contacts: usize = reports().map(|r| r.contacts.len()).sum();
-    eprintln!(
+    note(format_args!(
         "  physical replay: {passed} of {} executed sub-goal(s) pass; {in_goal} piece(s) at rest in their goal, {moved} other piece(s) moved, {contacts} contact(s)",
         replayed.subgoals.len()
-    );
+    ));
 }
 
 /// A few lines on stderr: the outcome, then each event.
@@ -210,10 +210,12 @@ fn summary(monitor: &Monitor) {
     let done = monitor.executed().len();
     let t = monitor.clock();
     match monitor.status() {
-        Status::Aborted(reason) => {
-            eprintln!("afford run: aborted at {t:.2} s after {done} sub-goal(s) begun: {reason}")
-        }
-        _ => eprintln!("afford run: completed {done} sub-goal(s) in {t:.2} s"),
+        Status::Aborted(reason) => note(format_args!(
+            "afford run: aborted at {t:.2} s after {done} sub-goal(s) begun: {reason}"
+        )),
+        _ => note(format_args!(
+            "afford run: completed {done} sub-goal(s) in {t:.2} s"
+        )),
     }
     for e in monitor.events() {
         let what = match (&e.message, e.scale) {
@@ -229,10 +231,10 @@ fn summary(monitor: &Monitor) {
         let replan = e
             .replan_ms
             .map_or(String::new(), |ms| format!(", replanned in {ms:.1} ms"));
-        eprintln!(
+        note(format_args!(
             "  {:7.2} s  {}{what}{changed} (decided in {:.0} µs{replan})",
             e.time, e.verdict, e.decision_us
-        );
+        ));
     }
 }
 

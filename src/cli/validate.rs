@@ -76,8 +76,20 @@ pub(super) fn gripper_pixel(
         || afford_planner::scenario::DEFAULT_SCENARIO_NAME.to_string(),
         |p| p.display().to_string(),
     );
+    let bad_state = |issues| {
+        let e = PlanError::RobotState {
+            robot: robot.name().to_string(),
+            issues,
+        };
+        Failure::new(ExitKind::BadInput, format!("{file}: {e}"))
+    };
     if let (Some(start), None) = (s.robot.start, &s.robot.joints) {
         return Ok(start);
+    }
+    // The joint state first: it is bad input whatever the instruction says.
+    let issues = start::check_joints(s, robot);
+    if !issues.is_empty() {
+        return Err(bad_state(issues));
     }
     let Some(object) = subgoals(s, args.seed)
         .ok()
@@ -86,13 +98,7 @@ pub(super) fn gripper_pixel(
         return Ok(s.robot.start.unwrap_or_default());
     };
     let first = FirstSubgoal::moving(s, object, &LiftSettings::default());
-    let state = start::resolve(s, robot, &first, &IkSettings::default()).map_err(|issues| {
-        let e = PlanError::RobotState {
-            robot: robot.name().to_string(),
-            issues,
-        };
-        Failure::new(ExitKind::BadInput, format!("{file}: {e}"))
-    })?;
+    let state = start::resolve(s, robot, &first, &IkSettings::default()).map_err(bad_state)?;
     Ok(state.gripper_px)
 }
 

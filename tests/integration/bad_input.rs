@@ -176,8 +176,9 @@ fn nothing_planned_still_writes_the_plan_with_typed_refusals() {
     );
 }
 
-/// `--svg` to a folder that does not exist: exit 2 and no plan file left
-/// behind (the plan was written first, then the run exited 2).
+/// `--svg` to a folder that does not exist: exit 3 (the result cannot be
+/// written) and no plan file left behind (the plan was written first, then
+/// the run failed).
 #[test]
 fn svg_that_cannot_be_written_leaves_no_plan_behind() {
     for (command, options) in [("plan", &["--until", "grid"][..]), ("run", &[][..])] {
@@ -189,13 +190,14 @@ fn svg_that_cannot_be_written_leaves_no_plan_behind() {
         args.extend(["-o", out.to_str().expect("UTF-8")]);
         args.extend(["--svg", svg.to_str().expect("UTF-8")]);
         let run = afford(&args);
-        run.assert_code(2).assert_no_panic();
+        run.assert_code(3).assert_no_panic();
         assert_contains_all(&run.command, &run.stderr, &["picture.svg", "cannot write"]);
         assert!(!out.exists(), "{command}: {} was written", out.display());
     }
 }
 
-/// `-o` naming a folder: exit 2, and no `FOLDER.partial` left beside it.
+/// `-o` naming a folder: exit 3 saying it is a folder, and no
+/// `FOLDER.partial` left beside it.
 #[test]
 fn output_to_a_folder_leaves_no_partial_file_behind() {
     let dir = scratch_dir("output-to-a-folder");
@@ -208,8 +210,12 @@ fn output_to_a_folder_leaves_no_partial_file_behind() {
         "-o",
         folder.to_str().expect("UTF-8"),
     ]);
-    run.assert_code(2).assert_no_panic();
-    assert_contains_all(&run.command, &run.stderr, &["plans", "cannot write"]);
+    run.assert_code(3).assert_no_panic();
+    assert_contains_all(
+        &run.command,
+        &run.stderr,
+        &["plans", "cannot write", "is a folder"],
+    );
     assert_eq!(entries(&dir), ["plans"], "left behind in {}", dir.display());
 }
 

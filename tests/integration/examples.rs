@@ -429,10 +429,10 @@ fn output_file_holds_the_same_bytes_as_stdout() {
 }
 
 #[test]
-fn output_into_a_missing_directory_is_bad_input() {
+fn output_into_a_missing_directory_is_an_output_failure() {
     let out = scratch_dir("missing-dir").join("no/such/dir/plan.json");
     let run = afford_with_path(&["plan", "-o"], &out, &[]);
-    run.assert_code(2).assert_no_panic();
+    run.assert_code(3).assert_no_panic();
     assert!(run.stderr.contains("cannot write"), "{}", run.stderr);
 }
 

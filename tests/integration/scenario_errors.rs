@@ -157,7 +157,7 @@ malformed! {
     instruction_of_100_clauses_is_bad_input: "instruction-too-many-clauses.yaml", At::NoLine
         => ["instruction", "100 clauses", "at most 64"];
     more_objects_than_the_bound_is_bad_input: "too-many-objects.yaml", At::NoLine
-        => ["objects", "35 entries", "at most 32"];
+        => ["objects", "259 entries", "at most 256"];
     learner_budget_of_1e12_steps_is_bad_input: "learner-max-steps-too-large.yaml", At::NoLine
         => ["learner.max_steps", "at most 1000000", "1000000000000"];
     safety_separation_is_validated_with_the_scenario: "separation-negative-reaction-time.yaml", At::NoLine

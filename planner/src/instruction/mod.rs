@@ -29,6 +29,15 @@ use tokens::{Tok, Token};
 
 use crate::error::InstructionError;
 use crate::scenario::Scenario;
+use crate::scenario::bounds::MAX_SUBGOALS;
+
+/// The words an instruction reads `name` as (NFKC, lower case, hyphens,
+/// underscores and slashes as word breaks, other symbols dropped): two
+/// names with the same words cannot be told apart by an instruction, so
+/// validation refuses them (`Blue-Square-1` and `blue_square_1`).
+pub fn name_words(name: &str) -> Vec<String> {
+    tokens::words(name)
+}
 
 /// One sub-goal ⟨object, goal⟩ of the set Π.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -54,7 +63,7 @@ pub struct Interpretation {
 /// # Errors
 /// [`InstructionError`] ("Not executable instruction: …") when the text has
 /// no verb, names no objects or goal that exist, asks for more objects than
-/// there are, only says what not to do, or holds a word afford cannot read
+/// there are or for more than [`MAX_SUBGOALS`] moves, only says what not to do, or holds a word afford cannot read
 /// (a negation or exclusion it cannot place, a spatial relation such as
 /// "next to", any unknown word): never executed against such a word.
 pub fn interpret(scenario: &Scenario, seed: u64) -> Result<Interpretation, InstructionError> {
@@ -80,6 +89,12 @@ pub fn interpret(scenario: &Scenario, seed: u64) -> Result<Interpretation, Instr
     fill_goals(&mut clauses)?;
     let resolved = resolve::resolve(scenario, &clauses, &exclusions, seed)?;
     guard::honours_exclusions(scenario, &resolved.picks, &resolved.forbidden)?;
+    if resolved.picks.len() > MAX_SUBGOALS {
+        return Err(InstructionError::new(format!(
+            "it asks for {} moves, but one instruction moves at most {MAX_SUBGOALS} objects: name fewer (\"the blue squares\", \"three of the red ones\") and give the rest in another instruction",
+            resolved.picks.len()
+        )));
+    }
     if resolved.picks.is_empty() && resolved.skipped.is_empty() {
         return Err(InstructionError::new("it asks for nothing to be moved"));
     }

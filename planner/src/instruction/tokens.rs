@@ -1,8 +1,10 @@
-//! Lexing: the instruction is normalised (case, punctuation, contractions)
-//! and goal and object names are recognised as whole phrases before any
-//! word is read, so a goal called "left box" or "black and white box" is one
+//! Lexing: the instruction is normalised (Unicode form, case, punctuation,
+//! contractions) and goal and object names are recognised as whole phrases
+//! before any word is read, so a goal called "left box" or "black and white box" is one
 //! token. Every token keeps its position, so the guard can tell which words
 //! no construct consumed.
+
+use unicode_normalization::UnicodeNormalization;
 
 use crate::scenario::Scenario;
 
@@ -54,13 +56,17 @@ impl Tok {
     }
 }
 
-/// Lower case; "n't" becomes " not"; clause punctuation becomes a comma
-/// token; hyphens and slashes separate words, but a minus sign (a hyphen
-/// starting a word, before a digit) stays, so "-3" is no count; other
-/// symbols are dropped.
+/// Unicode compatibility form (NFKC: "é" typed as one character or as "e"
+/// and an accent, fullwidth "ｂｌｕｅ", ligatures read alike), then lower
+/// case, then NFKC again (lower-casing can undo it); "n't" becomes " not";
+/// clause punctuation becomes a comma token; hyphens, underscores and
+/// slashes separate words, but a minus sign (a hyphen starting a word,
+/// before a digit) stays, so "-3" is no count; other symbols are dropped.
 fn normalise(text: &str) -> String {
-    let text = text
-        .to_lowercase()
+    let lower: String = text.nfkc().collect::<String>().to_lowercase();
+    let text = lower
+        .nfkc()
+        .collect::<String>()
         .replace("n't", " not")
         .replace("n’t", " not");
     let mut out = String::with_capacity(text.len());
@@ -78,6 +84,8 @@ fn normalise(text: &str) -> String {
     out
 }
 
+/// The words of `text` as the instruction reader sees them: two names
+/// with the same words are one name to an instruction.
 pub(super) fn words(text: &str) -> Vec<String> {
     normalise(text)
         .split_whitespace()

@@ -117,6 +117,29 @@ pub fn check_joints(scenario: &Scenario, robot: &RobotModel) -> Vec<FieldIssue> 
     issues
 }
 
+/// [`check_joints`] before anything else is read: a scenario that states
+/// `robot.joints` has its robot (`robot.model`, from `base_dir`) loaded and
+/// the joint state checked against it, so a bad joint state is bad input
+/// even when the instruction could not be executed either.
+pub fn check_stated_joints(
+    scenario: &Scenario,
+    base_dir: &std::path::Path,
+) -> Result<(), crate::PlanError> {
+    if scenario.robot.joints.is_none() {
+        return Ok(());
+    }
+    let robot = RobotModel::load(&scenario.robot.model, base_dir)
+        .map_err(|e| crate::PlanError::Robot(e.to_string()))?;
+    let issues = check_joints(scenario, &robot);
+    match issues.is_empty() {
+        true => Ok(()),
+        false => Err(crate::PlanError::RobotState {
+            robot: robot.name().to_string(),
+            issues,
+        }),
+    }
+}
+
 /// The robot's state at t = 0 by the rules in the module docs. `Err` lists
 /// the bad fields (`robot.joints.<name>`, `robot.start`).
 pub fn resolve(

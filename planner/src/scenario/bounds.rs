@@ -53,9 +53,20 @@ pub const MIN_HEIGHT_M: f64 = 0.005;
 /// any arm's reach, so a larger value is a typo, never a scene.
 pub const MAX_HEIGHT_M: f64 = 2.0;
 
-/// Most objects on the table; also the most sub-goals an instruction can ask
-/// for (each object moves at most once per instruction).
-pub const MAX_OBJECTS: usize = 32;
+/// Most objects on the table (a cluttered table: pieces in a tray, a
+/// heap of parts). Every per-object cost is linear in it: the grid paints
+/// each object's cells once, the collision scene holds one box per object
+/// (a few kB each), the affordance masks and the Q-table are per grid cell,
+/// not per object. `planner/tests/clutter.rs` measures plan time and peak
+/// memory for 8 to 256 objects.
+pub const MAX_OBJECTS: usize = 256;
+
+/// Most sub-goals one instruction can ask for: each object moves at most
+/// once per instruction, and each sub-goal's trajectory has its share of
+/// [`MEMORY_BOUND_BYTES`]. An instruction that names more ("put every piece
+/// in the tray" on a table of 100) is not executable as one (exit 1, "name
+/// fewer objects"); the scene itself may hold [`MAX_OBJECTS`].
+pub const MAX_SUBGOALS: usize = 32;
 
 /// Most goals (boxes).
 pub const MAX_GOALS: usize = 16;
@@ -128,14 +139,23 @@ pub const BYTES_PER_CELL: usize = 256;
 /// about 3 kB by `planner/tests/memory_bound.rs` — rounded up to 4 kB.
 pub const BYTES_PER_SAMPLE: usize = 4_096;
 
+/// Bytes per object of the scene, for the structures that hold one entry
+/// per object while a sub-goal is planned: its collision box (a parry
+/// cuboid and its pose, a few hundred bytes, in the planner's scene and in
+/// the transit's), its row of the grid painting, its name in the lookups —
+/// rounded up to 64 kB; `planner/tests/clutter.rs` measures the growth
+/// from 8 to 256 objects (well under this per object).
+pub const BYTES_PER_OBJECT: usize = 64 << 10;
+
 /// The memory bound of any accepted scenario, bytes (about 4.8 GB):
 ///
 /// ```text
 /// grid and learner: MAX_GRID_CELLS × BYTES_PER_CELL                      10 MB
 ///   + one episode of the learner: MAX_LEARNER_STEPS × 40 B               40 MB
-/// trajectories:     MAX_OBJECTS × MAX_SAMPLES_PER_SUBGOAL × BYTES_PER_SAMPLE
+/// trajectories:     MAX_SUBGOALS × MAX_SAMPLES_PER_SUBGOAL × BYTES_PER_SAMPLE
 ///                                                   ≈ 4.4 GB (32 × 34,004 × 4 kB)
 /// the scenario itself and its copy per sub-goal: MAX_FILE_BYTES × 32     34 MB
+/// the scene's objects: MAX_OBJECTS × BYTES_PER_OBJECT                    17 MB
 /// plus 256 MB for the robot, the collision scene and the timing program.
 /// ```
 ///
@@ -143,8 +163,9 @@ pub const BYTES_PER_SAMPLE: usize = 4_096;
 /// sub-goal 30 s long, comes near it; the examples plan in under 100 MB.
 pub const MEMORY_BOUND_BYTES: usize = MAX_GRID_CELLS * BYTES_PER_CELL
     + MAX_LEARNER_STEPS * 40
-    + MAX_OBJECTS * MAX_SAMPLES_PER_SUBGOAL * BYTES_PER_SAMPLE
-    + (MAX_FILE_BYTES as usize) * MAX_OBJECTS
+    + MAX_SUBGOALS * MAX_SAMPLES_PER_SUBGOAL * BYTES_PER_SAMPLE
+    + (MAX_FILE_BYTES as usize) * MAX_SUBGOALS
+    + MAX_OBJECTS * BYTES_PER_OBJECT
     + (256 << 20);
 
 // A held object always keeps a body above its support slice, and the

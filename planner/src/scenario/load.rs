@@ -47,7 +47,7 @@ pub fn load(path: &Path) -> Result<Scenario, ScenarioError> {
     };
     // Read one byte more than allowed: a larger file is refused unread.
     let mut text = String::new();
-    std::fs::File::open(path)
+    afford_kinematics::open_regular(path)
         .map_err(io)?
         .take(MAX_FILE_BYTES + 1)
         .read_to_string(&mut text)

@@ -5,9 +5,11 @@
 pub mod bounds;
 mod load;
 mod model;
+mod names;
 mod observation;
 mod validate;
 
+pub use afford_kinematics::open_regular;
 pub use load::{Format, check, load, parse};
 pub use model::*;
 pub use observation::{MotionPhase, Observation, PlanPoint};

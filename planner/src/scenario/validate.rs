@@ -1,11 +1,12 @@
-//! Validation after parsing: everything serde cannot check (ranges, unique
-//! names, boxes inside the image, a usable calibration) and every size bound
+//! Validation after parsing: everything serde cannot check (ranges, names
+//! an instruction can tell apart, boxes inside the image, a usable calibration) and every size bound
 //! of [`super::bounds`], so no accepted scenario asks for unbounded work.
 //! Returns every issue found, each naming its field path.
 
 use std::collections::HashSet;
 
 use super::bounds::*;
+use super::names::Names;
 use super::{FORMAT_VERSION, PixelBox, Scenario};
 use crate::error::FieldIssue;
 use crate::instruction::lexicon::{COLOURS, SHAPES};
@@ -141,15 +142,12 @@ fn check_elements(s: &Scenario, camera_ok: bool, push: &mut Push) {
         let named = items.into_iter().take(max).enumerate();
         elements.extend(named.map(|(i, (n, b, h))| (format!("{list}[{i}]"), n, b, h)));
     }
-    let mut names = HashSet::new();
+    let mut names = Names::default();
     for (field, name, bbox, height) in elements {
         if name.trim().is_empty() {
             push(format!("{field}.name"), "must not be empty".into());
-        } else if !names.insert(name.to_string()) {
-            push(
-                format!("{field}.name"),
-                format!("the name '{name}' is used twice"),
-            );
+        } else if let Some(message) = names.clash(&field, name) {
+            push(format!("{field}.name"), message);
         }
         check_text(&format!("{field}.name"), name, push);
         let box_ok = check_box(s, &format!("{field}.box"), bbox, push);
@@ -201,11 +199,11 @@ fn check_observations(s: &Scenario, camera_ok: bool, push: &mut Push) {
                 )
             }
             (None, Some(when)) => {
-                if when.subgoal >= MAX_OBJECTS {
+                if when.subgoal >= MAX_SUBGOALS {
                     push(
                         field("when.subgoal"),
                         format!(
-                            "must be below {MAX_OBJECTS} (one sub-goal per object), got {}",
+                            "must be below {MAX_SUBGOALS} (the most sub-goals an instruction has), got {}",
                             when.subgoal
                         ),
                     );
