@@ -17,12 +17,13 @@ REPO = Path(__file__).resolve().parents[2]
 HAND = {"name": "hand-1", "box": [200, 250, 40, 40], "height": 0.08}
 
 
-def hands_seen(monitor: afford.Monitor, hand_came: bool) -> "list | None":
-    """The scripted camera: the hand's list when it changes, else None (same scene)."""
+def hands_seen(monitor: afford.Monitor, hand_there: "bool | None") -> "list | None":
+    """The scripted camera: the hands' list when it changes, else None (the same scene).
+    `hand_there`: None before the hand came, True while it is there, False after."""
     subgoal, phase, fraction = monitor.position
-    if not hand_came and (subgoal, phase) == (0, "carry") and fraction >= 0.2:
+    if hand_there is None and (subgoal, phase) == (0, "carry") and fraction >= 0.2:
         return [HAND]
-    if hand_came and monitor.clock >= 6.0:
+    if hand_there and monitor.clock >= 6.0:
         return []
     return None
 
@@ -33,13 +34,13 @@ def main() -> None:
     scenario = afford.Scenario.from_dict(data)
     plan = afford.plan(scenario)
     monitor = afford.Monitor(scenario, plan)
-    hand_came, hand_left, last = False, False, None
+    hand_there, last = None, None
     while monitor.status == "running":
         t = monitor.clock
-        hands = None if hand_left else hands_seen(monitor, hand_came)
+        hands = hands_seen(monitor, hand_there)
         verdict = monitor.observe(t, hands=hands)
         if hands is not None:
-            hand_left, hand_came = hand_came, True
+            hand_there = bool(hands)
         if verdict.kind != last:
             why = f": {verdict.message}" if verdict.message else ""
             print(f"{t:7.2f} s  {verdict.kind}{why}")
@@ -49,7 +50,8 @@ def main() -> None:
             print(f"{g.start:7.2f} s  gripper {g.command}")
     print(f"\n{monitor.status} at {monitor.clock:.2f} s; events:")
     for e in monitor.events:
-        print(f"  {e.time:7.2f} s  {e.verdict:9} {'; '.join(e.changes)} {e.message or ''}")
+        said = "; ".join(e.changes + ([e.message] if e.message else []))
+        print(f"  {e.time:7.2f} s  {e.verdict:9} {said}")
     for e in monitor.executed:
         print(f"executed {e.object} -> {e.goal}: {e.positions.shape[0]} samples from {e.start_time:.2f} s")
 

@@ -130,10 +130,13 @@ impl Monitor {
     }
 
     /// Stops for good (reason `no_plan` with `message`): the robot brakes to
-    /// rest along its path.
-    fn abort(&mut self, py: Python<'_>, message: String) -> PyResult<()> {
+    /// rest along its path. Returns the `Setpoints` of the braking (with
+    /// any not yet handed out by `advance`).
+    fn abort(&mut self, py: Python<'_>, message: String) -> PyResult<Setpoints> {
+        let start = self.inner.clock();
         let inner = &mut self.inner;
-        errors::compute(py, || inner.abort(RustReason::NoPlan { message }))
+        errors::compute(py, || inner.abort(RustReason::NoPlan { message }))?;
+        errors::guard(|| self.setpoints(py, start))
     }
 
     /// The execution clock, s.

@@ -73,9 +73,8 @@ impl Scenario {
         })
     }
 
-    /// The built-in default scenario (`examples/sort-blue-squares.yaml`,
-    /// named `<built-in>/sort-blue-squares.yaml`): what `afford plan` plans
-    /// without a file.
+    /// The built-in default scenario (`examples/sort-blue-squares.yaml`):
+    /// what `afford plan` plans without a file.
     #[staticmethod]
     fn default(py: Python<'_>) -> PyResult<Self> {
         errors::guard(|| {

@@ -40,12 +40,12 @@ def test_a_tampered_plan_gives_afford_checks_typed_violations(planned, afford_bi
     point["positions"][2] += 3.0
     report = afford.check(scenario, data)
     assert not report.passed
-    kinds = {v.kind for v in report.violations}
-    assert "position" in kinds or "velocity" in kinds
-    joint = next(v for v in report.violations if v.joint is not None)
-    assert joint.subgoal == 1
-    assert joint.joint == data["subgoals"][1]["joint_names"][2]
-    assert joint.time_s is not None and joint.sample is not None
+    assert {"velocity", "acceleration", "jerk"} <= {v.kind for v in report.violations}
+    tampered = data["subgoals"][1]["joint_names"][2]
+    assert all((v.subgoal, v.joint) == (1, tampered) for v in report.violations)
+    jerk = next(v for v in report.violations if v.kind == "jerk")
+    assert jerk.sample == 39 and jerk.time_s == pytest.approx(0.405)
+    assert jerk.cases >= 1 and jerk.body is None
     path = tmp_path / "tampered.json"
     path.write_text(json.dumps(data))
     done = run_afford(afford_bin, "check", str(SORT), str(path), "--json")

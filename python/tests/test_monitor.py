@@ -24,7 +24,7 @@ def play(monitor: afford.Monitor, observations: list) -> tuple[int, list]:
     while monitor.status == "running":
         t = monitor.clock
         if t > afford.MAX_EXECUTION_TIME_S:
-            monitor.abort(f"execution ran past {afford.MAX_EXECUTION_TIME_S:g} s")
+            setpoints.append(monitor.abort(f"execution ran past {afford.MAX_EXECUTION_TIME_S:g} s"))
             break
         if delivered < len(observations) and monitor.due(observations[delivered]):
             o = observations[delivered]
@@ -137,9 +137,11 @@ def test_a_plan_without_trajectories_cannot_be_followed():
 def test_abort_brakes_to_rest_and_stops():
     scenario = afford.Scenario.from_file(EXAMPLES / "sort-blue-squares.yaml")
     monitor = afford.Monitor(scenario, afford.plan(scenario))
-    monitor.advance(1.0)
-    monitor.abort("operator pressed stop")
+    moving = monitor.advance(1.0)
+    braking = monitor.abort("operator pressed stop")
     assert monitor.status == "aborted"
+    assert braking.time[0] > moving.time[-1] and len(braking) > 1
+    assert np.allclose(braking.velocities[-1], 0.0)
     assert monitor.reason.kind == "no_plan" and monitor.reason.message == "operator pressed stop"
     assert monitor.executed[-1].cut_short
     assert np.allclose(monitor.executed[-1].velocities[-1], 0.0)

@@ -21,11 +21,11 @@ def test_the_builtin_robots_are_afford_robots_list(afford_bin):
 
 def test_a_user_description_loads_from_its_folder(tmp_path):
     for suffix in (".yaml", ".urdf"):
-        shutil.copy(REPO / "robots" / f"kuka_iiwa14{suffix}", tmp_path / f"my_arm{suffix}")
-    by_yaml = afford.load_robot("my_arm.yaml", base_dir=tmp_path)
-    by_urdf = afford.load_robot(str(tmp_path / "my_arm.urdf"))
+        shutil.copy(REPO / "robots" / f"kuka_iiwa14{suffix}", tmp_path / f"kuka_iiwa14{suffix}")
+    by_yaml = afford.load_robot("kuka_iiwa14.yaml", base_dir=tmp_path)
+    by_urdf = afford.load_robot(str(tmp_path / "kuka_iiwa14.urdf"))
     assert by_yaml.to_dict() == by_urdf.to_dict() == afford.load_robot("kuka_iiwa14").to_dict()
-    assert by_yaml.source.endswith("my_arm.yaml")
+    assert by_yaml.source != "built-in" and str(tmp_path) in by_yaml.source
 
 
 def test_a_robot_that_cannot_be_loaded_is_bad_input(tmp_path):
