@@ -21,7 +21,9 @@ pub struct Samples {
 fn frombuffer(py: Python<'_>) -> PyResult<&Bound<'_, PyAny>> {
     static FROMBUFFER: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
     FROMBUFFER
-        .get_or_try_init(py, || Ok::<_, PyErr>(py.import("numpy")?.getattr("frombuffer")?.unbind()))
+        .get_or_try_init(py, || {
+            Ok::<_, PyErr>(py.import("numpy")?.getattr("frombuffer")?.unbind())
+        })
         .map(|f| f.bind(py))
 }
 
@@ -59,7 +61,12 @@ fn matrix(
 }
 
 /// The arrays of `points`, each time less `t0`.
-pub fn samples(py: Python<'_>, points: &[TrajectoryPoint], joints: usize, t0: f64) -> PyResult<Samples> {
+pub fn samples(
+    py: Python<'_>,
+    points: &[TrajectoryPoint],
+    joints: usize,
+    t0: f64,
+) -> PyResult<Samples> {
     let time: Vec<f64> = points.iter().map(|p| p.time_from_start - t0).collect();
     Ok(Samples {
         positions: matrix(py, points, joints, |p| &p.positions)?,

@@ -55,7 +55,8 @@ impl Writer<'_> {
         if obj.is_none() {
             self.out.push_str("null");
         } else if let Ok(b) = obj.cast::<PyBool>() {
-            self.out.push_str(if b.is_true() { "true" } else { "false" });
+            self.out
+                .push_str(if b.is_true() { "true" } else { "false" });
         } else if let Ok(i) = obj.cast::<PyInt>() {
             let text = match (i.extract::<u64>(), i.extract::<i64>()) {
                 (Ok(v), _) => v.to_string(),
@@ -65,8 +66,8 @@ impl Writer<'_> {
             self.out.push_str(&text);
         } else if let Ok(f) = obj.cast::<PyFloat>() {
             let v = f.value();
-            let number =
-                Number::from_f64(v).ok_or_else(|| self.bad(format!("must be a finite number, got {v}")))?;
+            let number = Number::from_f64(v)
+                .ok_or_else(|| self.bad(format!("must be a finite number, got {v}")))?;
             self.out.push_str(&number.to_string());
         } else if let Ok(s) = obj.cast::<PyString>() {
             let text = s.to_cow().map_err(|e| self.bad(e.to_string()))?;
@@ -82,7 +83,8 @@ impl Writer<'_> {
     }
 
     fn string(&mut self, text: &str) {
-        self.out.push_str(&Value::String(text.to_string()).to_string());
+        self.out
+            .push_str(&Value::String(text.to_string()).to_string());
     }
 
     fn dict(&mut self, d: &Bound<'_, PyDict>, depth: usize) -> Result<(), Bad> {
@@ -180,7 +182,10 @@ pub fn to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>>
 }
 
 /// A serialisable afford value as Python data (its JSON form).
-pub fn serialised<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<Bound<'py, PyAny>> {
+pub fn serialised<'py, T: serde::Serialize>(
+    py: Python<'py>,
+    value: &T,
+) -> PyResult<Bound<'py, PyAny>> {
     let json = serde_json::to_value(value).map_err(crate::errors::internal)?;
     to_py(py, &json)
 }

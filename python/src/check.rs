@@ -4,7 +4,9 @@
 //! violations come back typed: class, sub-goal, message and the data a
 //! program acts on (joint, body, other, time, sample, distance, margin).
 
-use afford::check::{PlanFile, Report as RustReport, Violation as RustViolation, check_plan, read_plan};
+use afford::check::{
+    PlanFile, Report as RustReport, Violation as RustViolation, check_plan, read_plan,
+};
 use afford::collision::replay::ReplayReport;
 use afford::kinematics::RobotModel;
 use pyo3::prelude::*;
@@ -43,7 +45,8 @@ pub fn check(
         let mut report = check_plan(&s.inner, &robot, &file);
         let replay = match physics {
             true => {
-                let (replay, found) = afford::check::physics::check_physics(&s.inner, &robot, &file);
+                let (replay, found) =
+                    afford::check::physics::check_physics(&s.inner, &robot, &file);
                 report.violations.extend(found.violations);
                 replay
             }
@@ -216,4 +219,3 @@ impl Violation {
         )
     }
 }
-

@@ -7,8 +7,8 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use afford::planner::error::{PlanError, ScenarioError};
 use afford::planner::FieldIssue;
+use afford::planner::error::{PlanError, ScenarioError};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -66,7 +66,10 @@ impl Bad {
         let set = || -> PyResult<()> {
             value.setattr("file", &self.file)?;
             value.setattr("field", first.map_or("", |i| i.field.as_str()))?;
-            value.setattr("message", first.map_or(self.text.as_str(), |i| i.message.as_str()))?;
+            value.setattr(
+                "message",
+                first.map_or(self.text.as_str(), |i| i.message.as_str()),
+            )?;
             value.setattr("issues", PyList::new(py, pairs)?)?;
             Ok(())
         };
@@ -104,7 +107,10 @@ pub fn scenario(e: &ScenarioError, located: bool) -> Bad {
         },
         ScenarioError::Extension { file } => Bad {
             file: file.clone(),
-            issues: vec![FieldIssue::new("", "the file name must end in .yaml, .yml or .json")],
+            issues: vec![FieldIssue::new(
+                "",
+                "the file name must end in .yaml, .yml or .json",
+            )],
             text: e.to_string(),
         },
         other => Bad {
@@ -137,12 +143,17 @@ pub fn plan(py: Python<'_>, e: &PlanError, file: &str) -> PyErr {
 
 /// An `InternalError` naming what failed.
 pub fn internal(what: impl std::fmt::Display) -> PyErr {
-    InternalError::new_err(format!("afford failed internally (a defect of afford): {what}"))
+    InternalError::new_err(format!(
+        "afford failed internally (a defect of afford): {what}"
+    ))
 }
 
 /// The text of a panic's payload.
 fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
-    match (payload.downcast_ref::<&str>(), payload.downcast_ref::<String>()) {
+    match (
+        payload.downcast_ref::<&str>(),
+        payload.downcast_ref::<String>(),
+    ) {
         (Some(s), _) => s.to_string(),
         (_, Some(s)) => s.clone(),
         _ => "a panic without a message".to_string(),
@@ -158,5 +169,6 @@ pub fn compute<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> PyResul
 
 /// Runs `f` with the GIL held; a panic in it becomes `InternalError`.
 pub fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| Err(internal(panic_text(payload.as_ref()))))
+    catch_unwind(AssertUnwindSafe(f))
+        .unwrap_or_else(|payload| Err(internal(panic_text(payload.as_ref()))))
 }

@@ -15,7 +15,10 @@ use crate::plan::GripperEvent;
 use crate::record::Reason;
 
 /// A reason as a record (`None` for the verdicts without one).
-fn reason(py: Python<'_>, r: Option<&afford::planner::monitor::Reason>) -> PyResult<Option<Py<Reason>>> {
+fn reason(
+    py: Python<'_>,
+    r: Option<&afford::planner::monitor::Reason>,
+) -> PyResult<Option<Py<Reason>>> {
     r.map(|r| Py::new(py, Reason::new(py, r)?)).transpose()
 }
 
@@ -41,9 +44,10 @@ pub struct Verdict {
 impl Verdict {
     pub fn new(py: Python<'_>, v: &RustVerdict) -> PyResult<Self> {
         let subgoals = match v {
-            RustVerdict::NewWork { subgoals } => {
-                subgoals.iter().map(|g| (g.object.clone(), g.goal.clone())).collect()
-            }
+            RustVerdict::NewWork { subgoals } => subgoals
+                .iter()
+                .map(|g| (g.object.clone(), g.goal.clone()))
+                .collect(),
             _ => Vec::new(),
         };
         Ok(Self {
@@ -132,7 +136,10 @@ impl Event {
         bridge::serialised(py, &self.inner)
     }
     fn __repr__(&self) -> String {
-        format!("Event(time={}, verdict={:?}, changes={:?})", self.inner.time, self.inner.verdict, self.inner.changes)
+        format!(
+            "Event(time={}, verdict={:?}, changes={:?})",
+            self.inner.time, self.inner.verdict, self.inner.changes
+        )
     }
 }
 
@@ -204,7 +211,12 @@ impl Executed {
     }
     /// The executed motion as a `trajectory_msgs/JointTrajectory`-shaped dict.
     fn to_joint_trajectory<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        joints::joint_trajectory(py, &self.inner.joint_names, &self.inner.trajectory.points, 0.0)
+        joints::joint_trajectory(
+            py,
+            &self.inner.joint_names,
+            &self.inner.trajectory.points,
+            0.0,
+        )
     }
     /// The entry as in `afford run`'s `subgoals`.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -289,6 +301,11 @@ impl Setpoints {
         self.points.len()
     }
     fn __repr__(&self) -> String {
-        format!("Setpoints(start={}, end={}, samples={})", self.start, self.end, self.points.len())
+        format!(
+            "Setpoints(start={}, end={}, samples={})",
+            self.start,
+            self.end,
+            self.points.len()
+        )
     }
 }

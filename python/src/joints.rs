@@ -33,20 +33,33 @@ pub fn read_joint_state(obj: &Bound<'_, PyAny>) -> Result<Vec<(String, f64)>, Ba
         .extract()
         .map_err(|_| bad(".position", "must be a list of numbers".into()))?;
     if names.len() > MAX_JOINTS {
-        return Err(bad(".name", format!("{} joints; a robot has at most {MAX_JOINTS}", names.len())));
+        return Err(bad(
+            ".name",
+            format!("{} joints; a robot has at most {MAX_JOINTS}", names.len()),
+        ));
     }
     if names.len() != positions.len() {
         return Err(bad(
             ".position",
-            format!("{} positions for {} names: give one per joint", positions.len(), names.len()),
+            format!(
+                "{} positions for {} names: give one per joint",
+                positions.len(),
+                names.len()
+            ),
         ));
     }
     for (k, name) in names.iter().enumerate() {
         if names[..k].contains(name) {
-            return Err(bad(&format!(".name[{k}]"), format!("`{name}` is named twice")));
+            return Err(bad(
+                &format!(".name[{k}]"),
+                format!("`{name}` is named twice"),
+            ));
         }
         if !positions[k].is_finite() {
-            return Err(bad(&format!(".position[{k}]"), format!("must be a finite number, got {}", positions[k])));
+            return Err(bad(
+                &format!(".position[{k}]"),
+                format!("must be a finite number, got {}", positions[k]),
+            ));
         }
     }
     Ok(names.into_iter().zip(positions).collect())
@@ -56,7 +69,10 @@ pub fn read_joint_state(obj: &Bound<'_, PyAny>) -> Result<Vec<(String, f64)>, Ba
 /// the nanoseconds past them (0 ≤ nanosec < 10⁹).
 pub fn duration(seconds: f64) -> (i64, u32) {
     let total = (seconds * 1e9).round() as i64;
-    (total.div_euclid(1_000_000_000), total.rem_euclid(1_000_000_000) as u32)
+    (
+        total.div_euclid(1_000_000_000),
+        total.rem_euclid(1_000_000_000) as u32,
+    )
 }
 
 /// A `trajectory_msgs/JointTrajectory`-shaped dict of `points`, their times

@@ -50,7 +50,10 @@ fn _afford(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(robots::robots, m)?)?;
     m.add_function(wrap_pyfunction!(robots::load_robot, m)?)?;
     m.add_class::<robots::Robot>()?;
-    m.add("CAMERA_PERIOD_S", afford::planner::monitor::timeline::CAMERA_PERIOD_S)?;
+    m.add(
+        "CAMERA_PERIOD_S",
+        afford::planner::monitor::timeline::CAMERA_PERIOD_S,
+    )?;
     m.add(
         "MAX_EXECUTION_TIME_S",
         afford::planner::scenario::bounds::MAX_EXECUTION_TIME_S,

@@ -53,13 +53,19 @@ impl Monitor {
     /// `trajectory`) in `scenario`. Raises `afford.BadInput` when the plan
     /// has no timed sub-goal.
     #[new]
-    fn new(py: Python<'_>, scenario: &Bound<'_, Scenario>, plan: &Bound<'_, Plan>) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        scenario: &Bound<'_, Scenario>,
+        plan: &Bound<'_, Plan>,
+    ) -> PyResult<Self> {
         let (s, p) = (scenario.get(), plan.get());
         let mut options = p.options.clone();
         options.base_dir = s.base_dir.clone();
         let made = errors::compute(py, || {
-            let robot = RobotModel::load(&s.inner.robot.model, &s.base_dir).map_err(|e| e.to_string())?;
-            let monitor = rust::Monitor::new(p.inner.clone(), &s.inner, &options).map_err(|e| e.to_string())?;
+            let robot =
+                RobotModel::load(&s.inner.robot.model, &s.base_dir).map_err(|e| e.to_string())?;
+            let monitor = rust::Monitor::new(p.inner.clone(), &s.inner, &options)
+                .map_err(|e| e.to_string())?;
             Ok::<_, String>((monitor, robot))
         })?;
         let (inner, robot) = made.map_err(|m| Bad::field(&s.file, "plan", m).into_err(py))?;
@@ -93,7 +99,10 @@ impl Monitor {
         hands: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Verdict> {
         check_time("t", t).map_err(|b| b.into_err(py))?;
-        let observation = self.observation(t, [("objects", objects), ("goals", goals), ("hands", hands)]);
+        let observation = self.observation(
+            t,
+            [("objects", objects), ("goals", goals), ("hands", hands)],
+        );
         let observation = observation.map_err(|b| b.into_err(py))?;
         let inner = &mut self.inner;
         let verdict = errors::compute(py, || inner.observe(&observation, t))?;
@@ -104,13 +113,21 @@ impl Monitor {
     /// to the execution time `until`) and returns the `Setpoints` executed
     /// meanwhile: what the controller tracks until the next call.
     #[pyo3(signature = (dt = None, *, until = None))]
-    fn advance(&mut self, py: Python<'_>, dt: Option<f64>, until: Option<f64>) -> PyResult<Setpoints> {
+    fn advance(
+        &mut self,
+        py: Python<'_>,
+        dt: Option<f64>,
+        until: Option<f64>,
+    ) -> PyResult<Setpoints> {
         let start = self.inner.clock();
         let target = match (dt, until) {
             (Some(dt), None) if dt.is_finite() && dt >= 0.0 => start + dt,
             (None, Some(until)) => until,
             (Some(dt), None) => {
-                return Err(Bad::field("", "dt", format!("must be a finite time ≥ 0 s, got {dt}")).into_err(py));
+                return Err(
+                    Bad::field("", "dt", format!("must be a finite time ≥ 0 s, got {dt}"))
+                        .into_err(py),
+                );
             }
             _ => return Err(Bad::field("", "dt", "give one of `dt` and `until`").into_err(py)),
         };
@@ -182,13 +199,21 @@ impl Monitor {
     /// The executed timeline so far, one `Executed` per sub-goal begun.
     #[getter]
     fn executed(&self, py: Python<'_>) -> PyResult<Vec<Executed>> {
-        self.inner.executed().iter().map(|e| Executed::new(py, e)).collect()
+        self.inner
+            .executed()
+            .iter()
+            .map(|e| Executed::new(py, e))
+            .collect()
     }
 
     /// The decisions so far, one `Event` each.
     #[getter]
     fn events(&self, py: Python<'_>) -> PyResult<Vec<Event>> {
-        self.inner.events().iter().map(|e| Event::new(py, e)).collect()
+        self.inner
+            .events()
+            .iter()
+            .map(|e| Event::new(py, e))
+            .collect()
     }
 
     /// The whole robot's joint state at t = 0 (`{"joint_names", "positions"}`).
@@ -200,7 +225,11 @@ impl Monitor {
     /// The scene the monitor believes in now.
     #[getter]
     fn scene(&self) -> Scenario {
-        Scenario::new(self.inner.scene().clone(), self.base_dir.clone(), self.file.clone())
+        Scenario::new(
+            self.inner.scene().clone(),
+            self.base_dir.clone(),
+            self.file.clone(),
+        )
     }
 
     fn __repr__(&self) -> String {
@@ -222,7 +251,10 @@ impl Monitor {
         t: f64,
         lists: [(&str, Option<&Bound<'_, PyAny>>); N],
     ) -> Result<Observation, Bad> {
-        let mut text = format!("{{\"at\":{}", serde_json::Number::from_f64(t).map_or("0".into(), |n| n.to_string()));
+        let mut text = format!(
+            "{{\"at\":{}",
+            serde_json::Number::from_f64(t).map_or("0".into(), |n| n.to_string())
+        );
         for (name, list) in lists {
             if let Some(list) = list {
                 let json = bridge::json_text(list, OBSERVATION).map_err(|b| prefixed(b, name))?;
@@ -239,7 +271,10 @@ impl Monitor {
         scenario::check(&scene, OBSERVATION).map_err(|e| {
             let mut bad = errors::scenario(&e, true);
             for issue in &mut bad.issues {
-                issue.field = issue.field.trim_start_matches("observations[0].").to_string();
+                issue.field = issue
+                    .field
+                    .trim_start_matches("observations[0].")
+                    .to_string();
             }
             bad.text = bad.text.replace("observations[0].", "");
             bad
@@ -310,7 +345,12 @@ struct Sent {
 
 /// The whole robot at an arm's sample `p`: `whole` with the arm's joints
 /// set (the other joints rest), its time the execution clock `t`.
-fn whole_point(arm: &afford::kinematics::Arm, whole: &[f64], p: &TrajectoryPoint, t: f64) -> TrajectoryPoint {
+fn whole_point(
+    arm: &afford::kinematics::Arm,
+    whole: &[f64],
+    p: &TrajectoryPoint,
+    t: f64,
+) -> TrajectoryPoint {
     let mut point = TrajectoryPoint {
         positions: whole.to_vec(),
         velocities: vec![0.0; whole.len()],
@@ -343,7 +383,11 @@ fn prefixed(mut bad: Bad, list: &str) -> Bad {
             false => format!("{list}{}", issue.field),
         };
     }
-    let first = bad.issues.first().map(ToString::to_string).unwrap_or_default();
+    let first = bad
+        .issues
+        .first()
+        .map(ToString::to_string)
+        .unwrap_or_default();
     bad.text = format!("{OBSERVATION}: {first}");
     bad
 }
@@ -355,7 +399,11 @@ fn parse(text: &str) -> Result<Observation, Bad> {
     serde_path_to_error::deserialize(&mut de).map_err(|e| {
         let field = e.path().to_string();
         let message = e.into_inner().to_string();
-        let message = message.split(" at line ").next().unwrap_or_default().to_string();
+        let message = message
+            .split(" at line ")
+            .next()
+            .unwrap_or_default()
+            .to_string();
         Bad::field(OBSERVATION, if field == "." { "" } else { &field }, message)
     })
 }

@@ -41,7 +41,9 @@ pub fn plan(
     let s = scenario.get();
     let mut options = options(seed, rate_hz, until).map_err(|b| b.into_err(py))?;
     options.base_dir = s.base_dir.clone();
-    let planned = errors::compute(py, || afford::plan_json::plan_or_refusals(&s.inner, &options))?;
+    let planned = errors::compute(py, || {
+        afford::plan_json::plan_or_refusals(&s.inner, &options)
+    })?;
     let inner = planned.map_err(|e| errors::plan(py, &e, &s.file))?;
     errors::guard(|| Plan::new(py, inner, options))
 }
@@ -90,7 +92,11 @@ pub struct Plan {
 }
 
 impl Plan {
-    pub fn new(py: Python<'_>, inner: afford::planner::Plan, options: PlanOptions) -> PyResult<Self> {
+    pub fn new(
+        py: Python<'_>,
+        inner: afford::planner::Plan,
+        options: PlanOptions,
+    ) -> PyResult<Self> {
         let subgoals = inner
             .subgoals
             .iter()
@@ -248,7 +254,12 @@ impl Subgoal {
                 velocities,
                 accelerations,
                 time,
-            }) => (Some(positions), Some(velocities), Some(accelerations), Some(time)),
+            }) => (
+                Some(positions),
+                Some(velocities),
+                Some(accelerations),
+                Some(time),
+            ),
             None => (None, None, None, None),
         };
         Ok(Self {
@@ -280,7 +291,9 @@ impl Subgoal {
     /// `None` before stage `trajectory`.
     fn to_joint_trajectory<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         match (&self.inner.trajectory, &self.inner.joint_names) {
-            (Some(t), Some(names)) => Ok(Some(joints::joint_trajectory(py, names, &t.points, 0.0)?)),
+            (Some(t), Some(names)) => {
+                Ok(Some(joints::joint_trajectory(py, names, &t.points, 0.0)?))
+            }
             _ => Ok(None),
         }
     }
@@ -364,6 +377,9 @@ impl GripperEvent {
 #[pymethods]
 impl GripperEvent {
     fn __repr__(&self) -> String {
-        format!("GripperEvent(command={:?}, start={}, end={})", self.command, self.start, self.end)
+        format!(
+            "GripperEvent(command={:?}, start={}, end={})",
+            self.command, self.start, self.end
+        )
     }
 }

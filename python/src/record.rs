@@ -10,9 +10,14 @@ use pyo3::types::PyDict;
 use crate::bridge;
 
 /// A record's kind and fields from its JSON form (`{"kind": ..., ...}`).
-fn fields<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<(String, Bound<'py, PyDict>)> {
+fn fields<'py, T: serde::Serialize>(
+    py: Python<'py>,
+    value: &T,
+) -> PyResult<(String, Bound<'py, PyDict>)> {
     let data = bridge::serialised(py, value)?;
-    let dict = data.cast_into::<PyDict>().map_err(|e| crate::errors::internal(e.to_string()))?;
+    let dict = data
+        .cast_into::<PyDict>()
+        .map_err(|e| crate::errors::internal(e.to_string()))?;
     let kind: String = match dict.get_item("kind")? {
         Some(k) => k.extract()?,
         None => String::new(),

@@ -70,7 +70,11 @@ impl Robot {
             "Robot(name={:?}, dof={}, arms={:?})",
             self.summary.name,
             self.summary.dof,
-            self.summary.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>()
+            self.summary
+                .arms
+                .iter()
+                .map(|a| a.name.as_str())
+                .collect::<Vec<_>>()
         )
     }
 }
@@ -80,7 +84,10 @@ impl Robot {
 #[pyfunction]
 pub fn robots(py: Python<'_>) -> PyResult<Vec<Robot>> {
     let models = errors::compute(py, || {
-        BUILTIN_ROBOTS.iter().map(|n| RobotModel::builtin(n)).collect::<Result<Vec<_>, _>>()
+        BUILTIN_ROBOTS
+            .iter()
+            .map(|n| RobotModel::builtin(n))
+            .collect::<Result<Vec<_>, _>>()
     })?;
     let models = models.map_err(errors::internal)?;
     Ok(models.iter().map(Robot::of).collect())

@@ -48,11 +48,16 @@ impl Scenario {
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         errors::guard(|| {
-            let mut inner = scenario::load(&path).map_err(|e| errors::scenario(&e, true).into_err(py))?;
+            let mut inner =
+                scenario::load(&path).map_err(|e| errors::scenario(&e, true).into_err(py))?;
             if inner.name.is_none() {
                 inner.name = Some(afford::plan_json::source_name(Some(&path)));
             }
-            Ok(Self::new(inner, scenario::base_dir(&path), path.display().to_string()))
+            Ok(Self::new(
+                inner,
+                scenario::base_dir(&path),
+                path.display().to_string(),
+            ))
         })
     }
 
@@ -63,7 +68,11 @@ impl Scenario {
     /// paths start at `base_dir` (default: the current directory).
     #[staticmethod]
     #[pyo3(signature = (data, base_dir = None))]
-    fn from_dict(py: Python<'_>, data: &Bound<'_, PyAny>, base_dir: Option<PathBuf>) -> PyResult<Self> {
+    fn from_dict(
+        py: Python<'_>,
+        data: &Bound<'_, PyAny>,
+        base_dir: Option<PathBuf>,
+    ) -> PyResult<Self> {
         errors::guard(|| {
             let text = bridge::json_text(data, DICT_FILE).map_err(|b| b.into_err(py))?;
             let inner = scenario::parse(&text, Format::Json, DICT_FILE)
@@ -78,7 +87,8 @@ impl Scenario {
     #[staticmethod]
     fn default(py: Python<'_>) -> PyResult<Self> {
         errors::guard(|| {
-            let inner = scenario::default_scenario().map_err(|e| errors::scenario(&e, true).into_err(py))?;
+            let inner = scenario::default_scenario()
+                .map_err(|e| errors::scenario(&e, true).into_err(py))?;
             Ok(Self::new(
                 inner,
                 PathBuf::from("."),
@@ -154,4 +164,3 @@ impl Scenario {
             .is_ok_and(|o| o.get().inner == self.inner && o.get().base_dir == self.base_dir)
     }
 }
-
