@@ -79,6 +79,52 @@ def test_fuzzed_scenario_dicts_never_crash_the_interpreter():
     assert refused > 100 and read + refused == 300
 
 
+OBSERVE = textwrap.dedent(
+    """
+    import random, sys
+    import afford
+
+    scenario = afford.Scenario.from_file(sys.argv[1])
+    monitor = afford.Monitor(scenario, afford.plan(scenario))
+    hand = {"name": "hand-1", "box": [200, 250, 40, 40], "height": 0.08}
+    odd = [None, -1, 1e308, "", [], {}, [1, 2], float("nan"), True, "hand-1", [[[]]]]
+    rng = random.Random(int(sys.argv[2]))
+    verdicts = refused = 0
+    for case in range(int(sys.argv[3])):
+        if rng.random() < 0.4:
+            # A hand the camera could see, somewhere on the table, or none.
+            box = [rng.uniform(0, 600), rng.uniform(0, 440), 40, 40]
+            hands = rng.choice([[dict(hand, box=box)], []])
+        else:
+            entry = dict(hand)
+            key = rng.choice(["name", "box", "height", "extra"])
+            entry[key] = rng.choice(odd)
+            hands = rng.choice([[entry], entry, [entry, entry], [hand, hand], "hands"])
+        try:
+            monitor.observe(monitor.clock, hands=hands)
+            verdicts += 1
+        except afford.BadInput as e:
+            assert e.field.startswith("hands"), e
+            refused += 1
+        monitor.advance(0.05)
+    print(verdicts, refused, monitor.status)
+    """
+)
+
+
+def test_fuzzed_observations_never_crash_the_interpreter():
+    done = subprocess.run(
+        [sys.executable, "-c", OBSERVE, str(EXAMPLES / "monitor" / "hand-in-the-way.yaml"), "5", "120"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    verdicts, refused, _ = done.stdout.split()
+    assert int(refused) > 40 and int(verdicts) > 20
+    assert int(verdicts) + int(refused) == 120
+
+
 def test_a_panic_inside_afford_is_an_internal_error_not_a_crash():
     code = textwrap.dedent(
         """
