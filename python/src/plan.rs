@@ -29,6 +29,12 @@ use crate::scenario::Scenario;
 /// instruction that cannot be carried out, a robot that cannot be loaded
 /// or a joint state that does not fit it) and `afford.InternalError` for a
 /// defect of afford.
+///
+///     >>> scenario = afford.Scenario.from_file("examples/sort-blue-squares.yaml")
+///     >>> plan = afford.plan(scenario, seed=1, rate_hz=100)
+///     >>> s = plan.subgoals[0]
+///     >>> s.object, s.goal, s.positions.shape   # (samples, joints), in s.joint_names order
+///     ('blue-square-1', 'left box', (354, 7))
 #[pyfunction]
 #[pyo3(signature = (scenario, seed = 1, rate_hz = 100.0, until = None))]
 pub fn plan(

@@ -121,3 +121,16 @@ def test_help_gives_the_signature_and_the_contract():
     for words in ("plan.unsolved", "afford.BadInput", "afford.InternalError", "GIL"):
         assert words in doc
     assert "BadInput" in afford.Scenario.from_dict.__doc__
+
+
+def test_the_docstring_example_gives_what_it_shows(monkeypatch):
+    import doctest
+
+    from conftest import REPO
+
+    monkeypatch.chdir(REPO)
+    parser, runner = doctest.DocTestParser(), doctest.DocTestRunner()
+    test = parser.get_doctest(afford.plan.__doc__, {"afford": afford}, "afford.plan", None, 0)
+    assert test.examples
+    result = runner.run(test)
+    assert result.failed == 0 and result.attempted == len(test.examples)
