@@ -2,11 +2,11 @@
 
 use std::path::{Path, PathBuf};
 
+use afford::plan_json::{plan_or_refusals, source_name, to_json};
 use afford_kinematics::RobotModel;
-use afford_planner::plan::UnsolvedSubgoal;
 use afford_planner::scenario::{self, Scenario, bounds};
 use afford_planner::timing::TimingSettings;
-use afford_planner::{Plan, PlanError, PlanOptions, plan};
+use afford_planner::{Plan, PlanError, PlanOptions};
 
 use super::output::{emit, note, render, render_csv};
 use super::{ExitKind, Failure, OutputFormat, PlanArgs};
@@ -17,7 +17,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     let mut scenario = load(args.scenario.as_deref())?;
     let robot = load_robot(&scenario, args.scenario.as_deref())?;
     if scenario.name.is_none() {
-        scenario.name = Some(source_name(args));
+        scenario.name = Some(source_name(args.scenario.as_deref()));
     }
     let options = PlanOptions {
         seed: args.seed,
@@ -29,14 +29,11 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         },
         ..PlanOptions::default()
     };
-    let plan = match plan(&scenario, &options) {
+    // Nothing planned: the plan is still written (no sub-goals, every
+    // `unsolved` entry with its typed `refusal`), so a program reads why
+    // without parsing stderr, and the picture shows each failure.
+    let plan = match plan_or_refusals(&scenario, &options) {
         Ok(plan) => plan,
-        // Nothing planned: the plan is still written (no sub-goals, every
-        // `unsolved` entry with its typed `refusal`), so a program reads
-        // why without parsing stderr, and the picture shows each failure.
-        Err(PlanError::Unsolvable { unsolved, .. }) => {
-            nothing_planned(&scenario, &options, unsolved)
-        }
         Err(e) => {
             return Err(match e {
                 PlanError::Scenario(_) | PlanError::Robot(_) | PlanError::Options { .. } => {
@@ -53,6 +50,12 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         OutputFormat::Csv if plan.subgoals.is_empty() => String::new(),
         OutputFormat::Csv => render_csv(&plan)?,
         OutputFormat::Summary => super::summary::summary(&plan),
+        OutputFormat::Json => to_json(&plan).map_err(|e| {
+            Failure::new(
+                ExitKind::CouldNotPlan,
+                format!("cannot serialise the result: {e}"),
+            )
+        })?,
         format => render(&plan, format)?,
     };
     // The picture first: when it cannot be written, no plan is left behind
@@ -95,24 +98,6 @@ fn draw(scenario: &Scenario, plan: &Plan, robot: &RobotModel, svg: &Path) -> Res
     let picture = afford::picture::plan_svg(scenario, plan, Some(robot))
         .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
     emit(&picture, Some(svg))
-}
-
-/// The plan of a scenario none of whose sub-goals could be planned.
-fn nothing_planned(
-    scenario: &Scenario,
-    options: &PlanOptions,
-    unsolved: Vec<UnsolvedSubgoal>,
-) -> Plan {
-    Plan {
-        scenario: scenario.name.clone().unwrap_or_default(),
-        seed: options.seed,
-        until: options.until,
-        start_state: None,
-        skipped: Vec::new(),
-        subgoals: Vec::new(),
-        unsolved,
-        timings: Default::default(),
-    }
 }
 
 /// `--format`, else the summary for a person at a terminal and JSON for a
@@ -160,14 +145,4 @@ fn scenario_file(args: &PlanArgs) -> String {
         || scenario::DEFAULT_SCENARIO_NAME.to_string(),
         |p| p.display().to_string(),
     )
-}
-
-fn source_name(args: &PlanArgs) -> String {
-    match &args.scenario {
-        Some(path) => path.file_stem().map_or_else(
-            || path.display().to_string(),
-            |s| s.to_string_lossy().into_owned(),
-        ),
-        None => scenario::DEFAULT_SCENARIO_NAME.to_string(),
-    }
 }
