@@ -105,7 +105,11 @@ def test_a_hand_on_the_route_is_a_typed_wait():
     monitor.advance(2.0)
     still = monitor.advance(0.5)
     assert np.allclose(still.velocities, 0.0)
-    assert monitor.observe(monitor.clock, hands=[]).kind == "continue"
+    # A hand the detector stops listing is held for safety.detection.hand_hold_s
+    # (0.5 s): the robot goes on only once the way has been clear that long.
+    assert monitor.observe(monitor.clock, hands=[]).kind == "wait"
+    monitor.advance(0.6)
+    assert monitor.events[-1].verdict == "continue"
 
 
 def test_a_bad_observation_is_bad_input_named_by_list():
