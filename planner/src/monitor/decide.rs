@@ -8,7 +8,6 @@ use std::time::Instant;
 use crate::plan::SubgoalPlan;
 use crate::scenario::Scenario;
 use crate::timing::trajectory::hands;
-use crate::trajectory::GripperCommand;
 
 use super::execute::planned_position;
 use super::policy::{self, Fault, Remaining};
@@ -116,15 +115,9 @@ impl Monitor {
     }
 
     /// The gripper of the sub-goal under way has opened on its piece: the
-    /// piece is placed, only the way out is left.
+    /// piece is placed ([`Self::place_current`]), only the way out is left.
     pub(super) fn released(&self) -> bool {
-        let track = &self.tracks[self.current];
-        let has_open = self
-            .motion()
-            .gripper
-            .iter()
-            .any(|e| e.command == GripperCommand::Open);
-        has_open && self.cursor.s >= track.open.1 - 1e-9
+        self.placed_current
     }
 
     /// The believed scene, with the piece of the sub-goal under way and

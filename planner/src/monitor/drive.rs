@@ -247,7 +247,7 @@ impl Monitor {
 
     /// The piece of the sub-goal under way rests in its goal where it was
     /// released: it moves with its goal from now on ([`Placed`]).
-    fn place_current(&mut self) {
+    pub(super) fn place_current(&mut self) {
         if self.placed_current {
             return;
         }

@@ -111,9 +111,20 @@ pub fn check_motion(
             leg_options(robot, geometry, m.arm, &object.name, Leg::AfterRelease)?,
         ),
     ];
+    first_hit(geometry, &scene, m, parts)
+}
+
+/// The first hit of the path's parts `(from, to, options)`, in order, each
+/// checked with its own options in `scene`.
+fn first_hit(
+    geometry: &RobotGeometry,
+    scene: &Scene,
+    m: &ArmMotion,
+    parts: impl IntoIterator<Item = (usize, usize, PathOptions)>,
+) -> Result<Option<PathHit>, String> {
     for (from, to, opts) in parts {
         let verdict = geometry
-            .check_arm_path(&scene, m.arm, m.rest, &m.path[from..=to], &opts)
+            .check_arm_path(scene, m.arm, m.rest, &m.path[from..=to], &opts)
             .map_err(|e| e.to_string())?;
         if let Some(hit) = verdict.first() {
             return Ok(Some(PathHit {
@@ -137,13 +148,7 @@ pub fn check_after_release(
     let scene = Scene::from_spec(&spec).map_err(|e| e.to_string())?;
     let name = &m.scenario.objects[m.target].name;
     let options = leg_options(robot, geometry, m.arm, name, Leg::AfterRelease)?;
-    let verdict = geometry
-        .check_arm_path(&scene, m.arm, m.rest, m.path, &options)
-        .map_err(|e| e.to_string())?;
-    Ok(verdict.first().map(|hit| PathHit {
-        index: hit.waypoint,
-        collision: hit.clone(),
-    }))
+    first_hit(geometry, &scene, m, [(0, m.path.len() - 1, options)])
 }
 
 /// The parts of a sub-goal where the hand holds nothing: the arm's free moves.
