@@ -21,6 +21,8 @@
 //! | dense collision check (1 mm steps) | `dense`, `bodies`, `scene`, `chain` | `penetration`, `margin`, `self_collision`, `target_touched` |
 //! | grasp width, release | `placement` | `gripper_opening`, `placement` |
 //! | physical replay (rapier3d, `--physics`) | [`physics`] | `physics` |
+//! | an executed run's seen hands: contacts, perimeter entries | [`check_hands`], [`presence`] | — |
+//! | an executed run's stops against the stopping term | [`stops`] | — |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -46,6 +48,7 @@ mod check;
 mod dense;
 mod file;
 mod format;
+mod hands;
 mod jerk;
 pub mod physics;
 mod placement;
@@ -53,6 +56,7 @@ mod rates;
 mod report;
 mod scene;
 mod start;
+mod stops;
 mod tool_speed;
 
 pub use check::{check, check_plan};
@@ -62,9 +66,11 @@ pub use file::{
     PlanFileError, Sample, StartState, SubgoalFile, TrajectoryFile, read_plan,
 };
 pub use format::{EVENT_TIME_TOLERANCE, MAX_ABS_POSITION, MAX_ABS_RATE, MAX_TIME};
+pub use hands::{HandReport, Presence, check_hands, presence};
 pub use placement::PLACEMENT_TOLERANCE;
 pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
 pub use report::{Report, Violation, ViolationClass, ViolationData};
 pub use scene::{GOAL_WALL, TABLE_THICKNESS};
 pub use start::{START_TILT, START_TOLERANCE, scenario_joint_issues};
+pub use stops::{Stop, stops};
 pub use tool_speed::TOOL_SPEED_TOLERANCE;

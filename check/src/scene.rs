@@ -170,7 +170,7 @@ pub(crate) struct Obstacle {
 }
 
 impl Obstacle {
-    fn solid(name: &str, margin: f64, pose: &Iso, half: [f64; 3]) -> Self {
+    pub(crate) fn solid(name: &str, margin: f64, pose: &Iso, half: [f64; 3]) -> Self {
         Self {
             name: name.to_string(),
             margin,

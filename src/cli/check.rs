@@ -142,5 +142,21 @@ fn read_plan_file(path: &Path) -> Result<PlanFile, Failure> {
         )));
     }
     let text = String::from_utf8(bytes).map_err(|_| bad("is not UTF-8 text".into()))?;
+    if is_run_output(&text) {
+        return Err(bad(RUN_OUTPUT.into()));
+    }
     read_plan(&text).map_err(|e| bad(e.to_string()))
+}
+
+/// Why the output of `afford run` is not checked here.
+const RUN_OUTPUT: &str = "this is the output of `afford run` (it has `outcome` and `events`), not a plan: the scene changed while it ran, so checking it against the scenario's first scene would report false violations. `afford run` checks its own executed timeline against the scene as it changed (the independent check, the hand check and the physical replay: its `people` and `physics` fields, exit 1 when one fails); run `afford run SCENARIO` again to re-check it";
+
+/// A JSON or YAML document whose top level has `outcome` and `events`: what
+/// `afford run` writes.
+fn is_run_output(text: &str) -> bool {
+    let keys = |v: &serde_json::Value| v.get("outcome").is_some() && v.get("events").is_some();
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(v) => keys(&v),
+        Err(_) => serde_saphyr::from_str::<serde_json::Value>(text).is_ok_and(|v| keys(&v)),
+    }
 }

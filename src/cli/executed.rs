@@ -38,6 +38,8 @@ pub struct ExecutedFile {
     /// The scene believed while it ran: `(t, scene)`, `t` from its start,
     /// the first at 0, its object where it was grasped in each.
     pub timeline: Vec<(f64, Scenario)>,
+    /// Execution time when it began, s.
+    pub start_time: f64,
 }
 
 /// Every executed sub-goal (ended or cut short), as a plan file with its scene.
@@ -93,6 +95,7 @@ pub fn files(monitor: &Monitor, robot: &RobotModel) -> Result<Vec<ExecutedFile>,
             scene,
             file,
             timeline,
+            start_time: sub.start_time,
         });
     }
     Ok(out)
@@ -128,6 +131,71 @@ pub fn check(files: &[ExecutedFile], robot: &RobotModel) -> Vec<String> {
                 .map(move |v| format!("executed sub-goal {}: {v}", f.index))
         })
         .collect()
+}
+
+/// What the run did near people, measured by afford-check on the executed
+/// samples: every hand the detector delivered against every body and the
+/// held piece ([`afford_check::check_hands`]), every stop against the
+/// stopping term ([`afford_check::stops`]).
+#[derive(Debug, Default, Serialize)]
+pub struct PeopleCheck {
+    pub passed: bool,
+    pub hand_contacts: Vec<String>,
+    pub perimeter_entries: Vec<String>,
+    pub stops: Vec<afford_check::Stop>,
+    /// The largest stop travel over its stopping term (0: no stop).
+    pub largest_stop_ratio: f64,
+}
+
+/// Checks every executed sub-goal against the hands the detector delivered
+/// (`monitor.sightings()`, a dropout shorter than the scenario's hold time
+/// bridged) and measures the stop of every verdict that brakes.
+pub fn people(files: &[ExecutedFile], monitor: &Monitor, robot: &RobotModel) -> PeopleCheck {
+    let Some(first) = files.first() else {
+        return PeopleCheck {
+            passed: true,
+            ..PeopleCheck::default()
+        };
+    };
+    let hold = first.scene.safety.detection.hand_hold_s;
+    let present = afford_check::presence(monitor.sightings(), hold);
+    let decided: Vec<f64> = (monitor.events().iter())
+        .filter(|e| e.brakes)
+        .map(|e| e.time)
+        .collect();
+    let mut hands = afford_check::HandReport::default();
+    let mut stops = Vec::new();
+    for f in files {
+        let found = afford_check::check_hands(&f.scene, robot, &f.file, f.start_time, &present);
+        let who = format!("executed sub-goal {}", f.index);
+        hands
+            .contacts
+            .extend(found.contacts.iter().map(|m| format!("{who}: {m}")));
+        (hands.perimeter_entries).extend(
+            found
+                .perimeter_entries
+                .iter()
+                .map(|m| format!("{who}: {m}")),
+        );
+        stops.extend(afford_check::stops(
+            &f.scene,
+            robot,
+            &f.file,
+            f.start_time,
+            &decided,
+        ));
+    }
+    let largest = stops
+        .iter()
+        .map(afford_check::Stop::ratio)
+        .fold(0.0, f64::max);
+    PeopleCheck {
+        passed: hands.passed() && largest <= 1.0,
+        hand_contacts: hands.contacts,
+        perimeter_entries: hands.perimeter_entries,
+        stops,
+        largest_stop_ratio: largest,
+    }
 }
 
 /// The physical replay of one executed sub-goal.

@@ -17,7 +17,7 @@ use afford_planner::timing::TimingSettings;
 use afford_planner::{JointState, PlanError, PlanOptions, plan};
 use serde::Serialize;
 
-use super::executed::{self, RunReplay};
+use super::executed::{self, PeopleCheck, RunReplay};
 use super::output::{csv_header, csv_numbers, csv_text, emit, note, render};
 use super::plan::{base_dir, load, load_robot};
 use super::{ExitKind, Failure, OutputFormat, RunArgs};
@@ -39,6 +39,8 @@ struct RunOutput<'a> {
     events: Vec<EventOut<'a>>,
     /// The physical replay of every executed sub-goal (ended or cut short).
     physics: &'a RunReplay,
+    /// The hand check and the stops, measured by afford-check.
+    people: &'a PeopleCheck,
 }
 
 /// An event, with the decision time only when `--timings` asks for it
@@ -105,6 +107,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     let replayed = executed::replay(&files, &robot);
     physics_summary(&replayed);
+    let people = executed::people(&files, &monitor, &robot);
     let reason = match monitor.status() {
         Status::Aborted(reason) => Some(reason),
         _ => None,
@@ -112,7 +115,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let output = RunOutput {
         scenario: scenario.name.clone().unwrap_or_default(),
         seed: args.seed,
-        outcome: outcome(reason.is_some(), &replayed),
+        outcome: outcome(reason.is_some(), &replayed, &people),
         reason,
         start_state: monitor.start_state(),
         subgoals: monitor.executed(),
@@ -126,6 +129,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             })
             .collect(),
         physics: &replayed,
+        people: &people,
     };
     let text = match args.format {
         OutputFormat::Csv => csv(&monitor),
@@ -143,32 +147,45 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         emit(&picture, Some(svg))?;
     }
     emit(&text, args.output.as_deref())?;
-    exit(reason, &replayed)
+    exit(reason, &replayed, &people)
 }
 
 /// What the run came to, worst first: `touched_hand` when the physical
-/// replay found a robot body or the held piece touching a hand (nothing
-/// that touched a person is a success), `replay_failed` for any other
-/// finding of the replay, `aborted` when the monitor stopped for good,
-/// else `completed`.
-fn outcome(aborted: bool, replayed: &RunReplay) -> &'static str {
+/// replay or the hand check found a robot body or the held piece touching
+/// a seen hand (nothing that touched a person is a success),
+/// `entered_perimeter` when a body came into a seen hand's perimeter from
+/// outside, `stop_beyond_term` when a stop travelled past the stopping
+/// term, `replay_failed` for any other finding of the replay, `aborted`
+/// when the monitor stopped for good, else `completed`.
+fn outcome(aborted: bool, replayed: &RunReplay, people: &PeopleCheck) -> &'static str {
     let touched = replayed
         .subgoals
         .iter()
         .filter_map(|s| s.report.as_ref())
         .flat_map(|r| &r.contacts)
         .any(|c| c.kind == afford_collision::replay::BodyKind::Hand);
-    match (touched, replayed.passed, aborted) {
-        (true, _, _) => "touched_hand",
-        (false, false, _) => "replay_failed",
-        (false, true, true) => "aborted",
-        (false, true, false) => "completed",
+    if touched || !people.hand_contacts.is_empty() {
+        "touched_hand"
+    } else if !people.perimeter_entries.is_empty() {
+        "entered_perimeter"
+    } else if people.largest_stop_ratio > 1.0 {
+        "stop_beyond_term"
+    } else if !replayed.passed {
+        "replay_failed"
+    } else if aborted {
+        "aborted"
+    } else {
+        "completed"
     }
 }
 
 /// Exit 1 when the run was aborted or its physical replay failed (both
 /// reasons on stderr), else 0.
-fn exit(aborted: Option<&Reason>, replayed: &RunReplay) -> Result<(), Failure> {
+fn exit(
+    aborted: Option<&Reason>,
+    replayed: &RunReplay,
+    people: &PeopleCheck,
+) -> Result<(), Failure> {
     let mut reasons: Vec<String> = aborted
         .map(|r| format!("aborted: {r}"))
         .into_iter()
@@ -177,6 +194,24 @@ fn exit(aborted: Option<&Reason>, replayed: &RunReplay) -> Result<(), Failure> {
         reasons.push(format!(
             "the executed run fails the physical replay:\n  {}",
             replayed.failures().join("\n  ")
+        ));
+    }
+    let near: Vec<&String> = people
+        .hand_contacts
+        .iter()
+        .chain(&people.perimeter_entries)
+        .collect();
+    if !near.is_empty() {
+        let lines: Vec<&str> = near.iter().map(|s| s.as_str()).collect();
+        reasons.push(format!(
+            "the executed run comes too near a seen hand:\n  {}",
+            lines.join("\n  ")
+        ));
+    }
+    if people.largest_stop_ratio > 1.0 {
+        reasons.push(format!(
+            "a stop travelled {:.2} times its stopping term",
+            people.largest_stop_ratio
         ));
     }
     match reasons.is_empty() {
@@ -278,6 +313,35 @@ mod tests {
     use super::*;
     use executed::SubgoalReplay;
 
+    fn clear() -> PeopleCheck {
+        PeopleCheck {
+            passed: true,
+            ..PeopleCheck::default()
+        }
+    }
+
+    /// A run the hand check found in a hand's perimeter or whose stop ran
+    /// past its term is not completed, even when the replay passed.
+    #[test]
+    fn a_run_near_a_hand_or_with_a_long_stop_is_not_reported_completed() {
+        let entered = PeopleCheck {
+            perimeter_entries: vec!["link_7 comes within 40 mm of hand-1".into()],
+            ..clear()
+        };
+        assert_eq!(outcome(false, &replay(&[]), &entered), "entered_perimeter");
+        let long = PeopleCheck {
+            largest_stop_ratio: 1.3,
+            ..clear()
+        };
+        assert_eq!(outcome(false, &replay(&[]), &long), "stop_beyond_term");
+        assert!(exit(None, &replay(&[]), &long).is_err());
+        let touched = PeopleCheck {
+            hand_contacts: vec!["held piece inside hand-1".into()],
+            ..entered
+        };
+        assert_eq!(outcome(false, &replay(&[]), &touched), "touched_hand");
+    }
+
     fn replay(failures: &[&str]) -> RunReplay {
         RunReplay {
             passed: failures.is_empty(),
@@ -295,8 +359,8 @@ mod tests {
     /// and the sub-goal it happened in; one that passes exits 0.
     #[test]
     fn run_exit_is_1_when_the_physical_replay_of_the_executed_run_fails() {
-        assert!(exit(None, &replay(&[])).is_ok());
-        let failed = exit(None, &replay(&["red-square-1 moved 7.0 mm"])).unwrap_err();
+        assert!(exit(None, &replay(&[]), &clear()).is_ok());
+        let failed = exit(None, &replay(&["red-square-1 moved 7.0 mm"]), &clear()).unwrap_err();
         assert_eq!(failed.code, ExitKind::CouldNotPlan);
         assert!(
             failed.message.contains("fails the physical replay")
@@ -329,11 +393,14 @@ mod tests {
             }],
             input_error: None,
         });
-        assert_eq!(outcome(false, &touched), "touched_hand");
-        assert_eq!(outcome(true, &touched), "touched_hand");
-        assert_eq!(outcome(false, &replay(&["moved"])), "replay_failed");
-        assert_eq!(outcome(true, &replay(&[])), "aborted");
-        assert_eq!(outcome(false, &replay(&[])), "completed");
+        assert_eq!(outcome(false, &touched, &clear()), "touched_hand");
+        assert_eq!(outcome(true, &touched, &clear()), "touched_hand");
+        assert_eq!(
+            outcome(false, &replay(&["moved"]), &clear()),
+            "replay_failed"
+        );
+        assert_eq!(outcome(true, &replay(&[]), &clear()), "aborted");
+        assert_eq!(outcome(false, &replay(&[]), &clear()), "completed");
     }
 
     /// An aborted run whose replay also fails gives both reasons.
@@ -345,6 +412,7 @@ mod tests {
         let failed = exit(
             Some(&reason),
             &replay(&["blue-square-2 comes to rest outside"]),
+            &clear(),
         )
         .unwrap_err();
         assert_eq!(failed.code, ExitKind::CouldNotPlan);

@@ -11,6 +11,7 @@ mod doc_links;
 mod examples;
 mod export_mdp;
 mod features;
+mod hand_check;
 mod instructions;
 mod joint_values;
 mod monitor;

@@ -175,3 +175,37 @@ fn a_run_picture_shows_the_hands_that_came_and_went_and_the_stops() {
     assert!(picture.contains("hand-1 3.30–6.71 s"), "{picture}");
     assert!(picture.contains("1. 3.30 s wait"), "{picture}");
 }
+
+/// Every run fixture, re-checked by afford-check against every hand the
+/// detector delivered: no contact, no perimeter entered from where a stop
+/// could have kept out, every stop within the stopping term.
+#[test]
+fn no_run_fixture_touches_a_seen_hand_or_stops_past_its_term() {
+    let mut stopped = 0;
+    for entry in std::fs::read_dir("tests/fixtures/monitor").unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        if !name.starts_with("run-") {
+            continue;
+        }
+        let result = afford(&["run", &path.to_string_lossy()]);
+        result.assert_no_panic();
+        let json = result.json();
+        let people = &json["people"];
+        assert_eq!(people["passed"], true, "{name}: {people}");
+        assert_eq!(
+            people["hand_contacts"].as_array().unwrap().len(),
+            0,
+            "{name}"
+        );
+        assert_eq!(
+            people["perimeter_entries"].as_array().unwrap().len(),
+            0,
+            "{name}"
+        );
+        let ratio = people["largest_stop_ratio"].as_f64().unwrap();
+        assert!(ratio <= 1.0, "{name}: a stop took {ratio} of its term");
+        stopped += usize::from(!people["stops"].as_array().unwrap().is_empty());
+    }
+    assert!(stopped >= 5, "only {stopped} fixtures stopped at all");
+}

@@ -565,10 +565,16 @@ impl Monitor {
                 .collect(),
             _ => Vec::new(),
         };
+        let brakes = match verdict {
+            Verdict::Stop | Verdict::Wait { .. } | Verdict::Abort { .. } => true,
+            Verdict::Replan { .. } => matches!(self.pending, Some(Pending::AtRest(_))),
+            _ => false,
+        };
         self.events.push(Event {
             time: self.clock,
             changes: changes.to_vec(),
             verdict: name,
+            brakes,
             reason: verdict.reason().cloned(),
             message: verdict.reason().map(|r| r.to_string()),
             scale,

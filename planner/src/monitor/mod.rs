@@ -46,7 +46,7 @@ use crate::clearance::gripper_reach;
 use crate::error::PlanError;
 use crate::instruction::SubGoal;
 use crate::plan::{HeldObject, JointState, Plan, PlanOptions};
-use crate::scenario::{MotionPhase, Observation, PixelBox, Scenario};
+use crate::scenario::{Hand, MotionPhase, Observation, PixelBox, Scenario};
 use crate::trajectory::TimedMotion;
 use belief::{Change, Placed};
 use detection::HandMemory;
@@ -162,6 +162,9 @@ pub struct Monitor {
     status: Status,
     executed: Vec<ExecutedSubgoal>,
     events: Vec<Event>,
+    /// Every hand list the detector delivered, with its time: the raw
+    /// input an outside check measures the executed motion against.
+    sightings: Vec<(f64, Vec<Hand>)>,
     last: &'static str,
 }
 
@@ -220,6 +223,7 @@ impl Monitor {
             status: Status::Running,
             executed: Vec::new(),
             events: Vec::new(),
+            sightings: vec![(0.0, scenario.hands.clone())],
             last: "continue",
         };
         let hold = scenario.safety.detection.hand_hold_s;
@@ -227,6 +231,13 @@ impl Monitor {
         monitor.adopt(plan);
         monitor.cursor = Cursor::START;
         Ok(monitor)
+    }
+
+    /// Every hand list the detector delivered, `(time, hands)` in order,
+    /// the scenario's own hands at 0: what was seen, not what the monitor
+    /// believed (an outside check's input).
+    pub fn sightings(&self) -> &[(f64, Vec<Hand>)] {
+        &self.sightings
     }
 
     /// The execution clock, s.
@@ -314,6 +325,9 @@ impl Monitor {
         let started = Instant::now();
         if self.status != Status::Running {
             return Verdict::Continue;
+        }
+        if let Some(hands) = &observation.hands {
+            self.sightings.push((self.clock, hands.clone()));
         }
         let observation = self.with_held_hands(observation);
         let changes = match observation.is_unchanged() {

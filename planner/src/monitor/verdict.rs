@@ -115,6 +115,11 @@ pub struct Event {
     pub changes: Vec<String>,
     /// The verdict's name ([`Verdict::name`]).
     pub verdict: &'static str,
+    /// The verdict brakes the robot to rest now (a stop, a wait, an abort,
+    /// a replan from where the robot stops); serialised only when true.
+    /// A replan from the end of the sub-goal under way does not brake.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub brakes: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<Reason>,
     /// The reason in words.
