@@ -11,6 +11,7 @@
 //! Built over the planner's public API only (`afford-planner`); the
 //! planner does not depend on this crate.
 
+pub mod adversary;
 pub mod cql;
 pub mod generator;
 pub mod monitor;

@@ -249,17 +249,38 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
         scenes: args.scenes,
         seed: args.common.seed,
     };
-    let robot = RobotModel::builtin(ROBOT)
-        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
-    let recheck = |monitor: &Monitor| match executed::files(monitor, &robot) {
-        Ok(files) => Rechecked {
-            violations: executed::check(&files, &robot),
-            physics: executed::replay(&files, &robot).failures(),
-        },
-        Err(e) => Rechecked {
-            violations: vec![e],
-            physics: Vec::new(),
-        },
+    let robots = [ROBOT, "care_o_bot4"].map(|name| {
+        RobotModel::builtin(name).map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))
+    });
+    let robots: Vec<RobotModel> = robots.into_iter().collect::<Result<_, _>>()?;
+    let recheck = |monitor: &Monitor| {
+        let model = &monitor.scene().robot.model;
+        let Some(robot) = robots.iter().find(|r| r.name() == model) else {
+            return Rechecked {
+                violations: vec![format!("no built-in robot {model}")],
+                ..Rechecked::default()
+            };
+        };
+        match executed::files(monitor, robot) {
+            Ok(files) => {
+                let people = executed::people(&files, monitor, robot);
+                Rechecked {
+                    violations: executed::check(&files, robot),
+                    physics: executed::replay(&files, robot).failures(),
+                    hand_contacts: people.hand_contacts,
+                    perimeter_entries: people.perimeter_entries,
+                    stops: people
+                        .stops
+                        .iter()
+                        .map(|s| (s.travel_m, s.term_m))
+                        .collect(),
+                }
+            }
+            Err(e) => Rechecked {
+                violations: vec![e],
+                ..Rechecked::default()
+            },
+        }
     };
     let report = run(
         &config,
@@ -284,7 +305,20 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
         report.physics_failures.unwrap_or(0),
     );
     for (kind, [n, triggered]) in &report.kinds {
-        out += &format!("  {kind:<18} {n:>4} perturbations, {triggered:>4} triggered\n");
+        out += &format!("  {kind:<22} {n:>4} perturbations, {triggered:>4} triggered\n");
+    }
+    out += &format!("near people ({} panics):\n", report.panics);
+    for (kind, p) in &report.people {
+        out += &format!(
+            "  {kind:<22} {:>4} executions: {} hand contacts, {} perimeter entries, {} stops (largest {:.2} of the term, longest {:.0} mm), {} wrong outcomes\n",
+            p.executions,
+            p.hand_contacts,
+            p.perimeter_entries,
+            p.stops,
+            p.largest_stop_ratio,
+            p.longest_stop_m * 1e3,
+            p.wrong_outcomes
+        );
     }
     print(&out)
 }

@@ -329,6 +329,46 @@ fn monitor_bench_replays_every_perturbed_execution_physically() {
     assert_eq!(count("check_failures"), 0, "{json:#}");
 }
 
+/// The adversarial campaign on both robots, small: tall and flickering
+/// hands ahead of the tool, jitter. No execution touches a seen hand,
+/// enters its perimeter from where a stop could keep out, stops past its
+/// stopping term, is reported completed after a failed re-check, or
+/// panics; jitter below the tolerance triggers nothing.
+#[test]
+fn monitor_campaign_never_touches_a_hand_and_every_stop_keeps_its_term() {
+    let result = afford(&["bench", "monitor", "--scenes", "3", "--json"]);
+    result.assert_code(0).assert_no_panic();
+    let json = result.json();
+    assert_eq!(json["panics"], 0, "{json:#}");
+    assert_eq!(json["false_triggers"], 0, "{json:#}");
+    assert_eq!(json["detected"], json["relevant"], "{json:#}");
+    let people = json["people"].as_object().expect("people");
+    for kind in ["tall_hand_ahead", "flickering_hand_ahead", "jitter"] {
+        let n = people
+            .get(kind)
+            .map_or(0, |k| k["executions"].as_u64().unwrap());
+        assert!(n > 0, "no {kind} execution: {json:#}");
+    }
+    let mut stops = 0;
+    for (kind, k) in people {
+        for field in ["hand_contacts", "perimeter_entries", "wrong_outcomes"] {
+            assert_eq!(
+                k[field], 0,
+                "{kind}: {field}: {:#}",
+                json["physics_findings"]
+            );
+        }
+        let ratio = k["largest_stop_ratio"].as_f64().unwrap();
+        assert!(ratio <= 1.0, "{kind}: a stop took {ratio} of its term");
+        stops += k["stops"].as_u64().unwrap();
+    }
+    assert!(stops > 10, "{stops} stops: {json:#}");
+    for robot in ["kuka_iiwa14", "care_o_bot4"] {
+        let n = json["executions_by_robot"][robot].as_u64().unwrap_or(0);
+        assert!(n >= 20, "{robot}: {n} executions");
+    }
+}
+
 /// Bench scenes 7 and 18 (seed 1): a goal moved while the arm ran into
 /// the grasp. Braking ended past the close's start, so the robot closed
 /// the gripper, but the replan from that rest did not count the close

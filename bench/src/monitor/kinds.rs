@@ -1,217 +1,27 @@
-//! `afford bench monitor`: the valid-policy detector on seeded planned
-//! scenes (KUKA iiwa 14, a 1.28 × 0.96 m table seen at 2 mm per pixel, one
-//! blue square, one red square, a box, "put all the blue squares in the
-//! left box"), perturbed at several points of the execution. Each
-//! perturbation is relevant or irrelevant **by construction** — from the
-//! geometry of the plan ahead, never by asking the monitor:
-//!
-//! | kind | relevant | built as |
-//! |---|---|---|
-//! | `goal_moved` | yes | the box shifted by its width (or length) plus 10 px, so the planned release footprint lies outside it, [`REACH_M`] from every tool position so far |
-//! | `hand_on_route` | yes | a hand on a cell the policy still visits, three or more cells ahead, a cell clear of the other pieces' perimeters and of the goal boxes |
-//! | `blocker_on_route` | yes | a new object on such a cell |
-//! | `new_piece` | yes | a new blue square (the instruction says "all") |
-//! | `piece_moved_away` | no | the red square moved where its box, grown by its margin and one cell, misses every cell still visited and lies [`REACH_M`] + margin from every remaining tool position |
-//! | `hand_far_away` | no | a hand placed likewise with the hand margin, and where the tool-speed cap of every remaining sample ([`afford_planner::timing::SeparationSettings::tool_speed_cap`]) exceeds its planned speed with the monitor's tolerance |
-//!
-//! A relevant perturbation is detected when the verdict is anything but
-//! `Continue` or `Slow`; an irrelevant one is a false trigger when it is
-//! anything but `Continue`. Times: the decision (wall clock, the replan
-//! left out) and the replan of each `Replan`.
-//!
-//! Re-check (when the caller gives one, [`Recheck`]): every perturbed
-//! execution then runs on to its end — a hand is withdrawn a second after
-//! it came, so a wait resumes — and its executed timeline goes through the
-//! independent check and the physical replay; `check_failures` and
-//! `physics_failures` count the executions each flags.
+//! The scenes and perturbations by construction of `afford bench monitor`
+//! (the table in [`super`]'s docs): the KUKA's random scene, and for one
+//! moment of its plan the goal moved, a hand or a blocker on the route, a
+//! new piece, a piece moved away, a hand far away.
 
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
-use serde::Serialize;
 
-use super::median;
+use super::ROBOT;
+use crate::adversary::Case;
 use afford_planner::monitor::route::REACH_M;
 use afford_planner::monitor::separation::TOLERANCE;
 use afford_planner::monitor::track::Track;
-use afford_planner::monitor::{Monitor, Verdict, timeline};
-use afford_planner::plan::{Plan, PlanOptions, Planner, SubgoalPlan};
+use afford_planner::plan::{Plan, SubgoalPlan};
 use afford_planner::scenario::{
     Camera, FORMAT_VERSION, Goal, Hand, Object, Observation, PixelBox, RobotSpec, Safety, Scenario,
 };
 use afford_planner::timing::separation::nearest_hand_distance;
 use afford_planner::timing::trajectory::hands;
 
-/// The robot of every scene.
-pub const ROBOT: &str = "kuka_iiwa14";
-
-/// What to run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MonitorBenchConfig {
-    /// Planned scenes tried (scenes that do not plan are skipped).
-    pub scenes: usize,
-    pub seed: u64,
-}
-
-impl Default for MonitorBenchConfig {
-    fn default() -> Self {
-        Self {
-            scenes: 60,
-            seed: 1,
-        }
-    }
-}
-
-/// The report (`--json`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct MonitorBenchReport {
-    pub relevant: usize,
-    pub detected: usize,
-    pub irrelevant: usize,
-    pub false_triggers: usize,
-    pub median_observe_us: f64,
-    pub median_replan_ms: f64,
-    /// Perturbed executions run to their end and re-checked; `null`: no
-    /// re-check given.
-    pub physics_runs: Option<usize>,
-    /// Of those, the executions that aborted inside a sub-goal: their
-    /// sub-goal cut short was re-checked as far as it went.
-    pub cut_short_runs: Option<usize>,
-    /// Of those, the executions the independent check flags.
-    pub check_failures: Option<usize>,
-    /// Each execution the check flags (scene, kind, moment), its violations.
-    pub check_findings: Vec<String>,
-    /// Of those, the executions the physical replay flags; `null`: no
-    /// replay given.
-    pub physics_failures: Option<usize>,
-    /// Each flagged execution (scene, kind, moment) with the replay's
-    /// findings.
-    pub physics_findings: Vec<String>,
-    /// Perturbations per kind: `[count, triggered]`.
-    pub kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
-}
-
-/// Points of the execution perturbed, as fractions of the trajectory up to
-/// the gripper's open command.
-const MOMENTS: [f64; 4] = [0.2, 0.45, 0.7, 0.9];
-
-/// Re-checks an executed run ([`Monitor::executed`]): the independent
-/// check's violations and the physical replay's findings, one sentence
-/// each. The caller gives it (the facade passes afford-check's; the
-/// planner does not depend on its checker).
-pub type Recheck<'a> = &'a dyn Fn(&Monitor) -> Rechecked;
-
-/// What [`Recheck`] found.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Rechecked {
-    pub violations: Vec<String>,
-    pub physics: Vec<String>,
-}
-
-/// Runs the benchmark; `progress(done)` after each scene; `physics`
-/// re-checks each perturbed execution run to its end.
-pub fn run(
-    config: &MonitorBenchConfig,
-    mut progress: impl FnMut(usize),
-    physics: Option<Recheck>,
-) -> MonitorBenchReport {
-    let options = PlanOptions::default();
-    let mut tally = Tally {
-        physics,
-        ..Tally::default()
-    };
-    for k in 0..config.scenes {
-        let mut rng =
-            ChaCha8Rng::seed_from_u64(config.seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        let scene = scene(&mut rng, k);
-        if let Ok(plan) = Planner::new(options.clone()).plan(&scene)
-            && plan.subgoals.len() == 1
-        {
-            for &moment in &MOMENTS {
-                perturb(&scene, &plan, &options, moment, &mut rng, &mut tally);
-            }
-        }
-        progress(k + 1);
-    }
-    tally.report()
-}
-
-#[derive(Default)]
-struct Tally<'a> {
-    physics: Option<Recheck<'a>>,
-    physics_runs: usize,
-    cut_short_runs: usize,
-    check_failures: usize,
-    check_findings: Vec<String>,
-    physics_failures: usize,
-    physics_findings: Vec<String>,
-    relevant: usize,
-    detected: usize,
-    irrelevant: usize,
-    false_triggers: usize,
-    observe_us: Vec<f64>,
-    replan_ms: Vec<f64>,
-    kinds: std::collections::BTreeMap<&'static str, [usize; 2]>,
-}
-
-impl Tally<'_> {
-    /// Runs `monitor` on to its end (the hands withdrawn a second after
-    /// `t`) and re-checks it, when a re-check was given; `run` names the
-    /// execution.
-    fn recheck(&mut self, mut monitor: Monitor, t: f64, run: impl FnOnce() -> String) {
-        let Some(physics) = self.physics else {
-            return;
-        };
-        let withdrawn = Observation {
-            at: Some(t + 1.0),
-            hands: Some(Vec::new()),
-            ..Default::default()
-        };
-        timeline::play(&mut monitor, &[withdrawn]);
-        self.physics_runs += 1;
-        self.cut_short_runs += usize::from(monitor.executed().iter().any(|e| e.cut_short));
-        let found = physics(&monitor);
-        let run = run();
-        for (findings, count, list) in [
-            (
-                found.violations,
-                &mut self.check_failures,
-                &mut self.check_findings,
-            ),
-            (
-                found.physics,
-                &mut self.physics_failures,
-                &mut self.physics_findings,
-            ),
-        ] {
-            if !findings.is_empty() {
-                *count += 1;
-                list.push(format!("{run}: {}", findings.join("; ")));
-            }
-        }
-    }
-
-    fn report(self) -> MonitorBenchReport {
-        MonitorBenchReport {
-            relevant: self.relevant,
-            detected: self.detected,
-            irrelevant: self.irrelevant,
-            false_triggers: self.false_triggers,
-            median_observe_us: median(&self.observe_us),
-            median_replan_ms: median(&self.replan_ms),
-            physics_runs: self.physics.map(|_| self.physics_runs),
-            cut_short_runs: self.physics.map(|_| self.cut_short_runs),
-            check_failures: self.physics.map(|_| self.check_failures),
-            check_findings: self.check_findings,
-            physics_failures: self.physics.map(|_| self.physics_failures),
-            physics_findings: self.physics_findings,
-            kinds: self.kinds,
-        }
-    }
-}
-
+/// arm reaches, apart.
 /// A random scene: the square, the red square and the box in the band the
 /// arm reaches, apart.
-fn scene(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
+pub(super) fn scene(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
     let mut boxes: Vec<PixelBox> = Vec::new();
     let mut place = |rng: &mut ChaCha8Rng, w: f64, l: f64| loop {
         let b = PixelBox {
@@ -269,26 +79,30 @@ fn scene(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
 }
 
 /// True when the boxes are more than `gap` px apart along u or v.
-fn apart(a: &PixelBox, b: &PixelBox, gap: f64) -> bool {
+pub(crate) fn apart(a: &PixelBox, b: &PixelBox, gap: f64) -> bool {
     a.u + a.w + gap < b.u || b.u + b.w + gap < a.u || a.v + a.l + gap < b.v || b.v + b.l + gap < a.v
 }
 
-/// The perturbations at one moment of the plan.
-fn perturb(
-    scene: &Scenario,
-    plan: &Plan,
-    options: &PlanOptions,
-    moment: f64,
-    rng: &mut ChaCha8Rng,
-    tally: &mut Tally<'_>,
-) {
-    let sub = &plan.subgoals[0];
-    let motion = sub.trajectory.as_ref().expect("timed");
-    let robot = afford_kinematics::RobotModel::builtin(ROBOT).expect("built-in robot");
+/// The plan's track of its one sub-goal.
+pub(super) fn track_of(scene: &Scenario, sub: &SubgoalPlan) -> Track {
+    let robot = afford_kinematics::RobotModel::builtin(&scene.robot.model).expect("built-in robot");
     let arm = robot
         .arm(sub.arm.as_deref().unwrap_or_default())
         .expect("planned arm");
-    let track = Track::new(sub, arm, scene);
+    Track::new(sub, arm, scene)
+}
+
+/// The perturbations by construction at one moment of the plan (module
+/// docs), each withdrawn a second later (its hands gone).
+pub(super) fn perturbations(
+    scene: &Scenario,
+    plan: &Plan,
+    moment: f64,
+    rng: &mut ChaCha8Rng,
+) -> Vec<Case> {
+    let sub = &plan.subgoals[0];
+    let motion = sub.trajectory.as_ref().expect("timed");
+    let track = track_of(scene, sub);
     let open = track.open.0;
     let t = moment * open;
     let sample = Track::sample_at(motion, t);
@@ -397,41 +211,20 @@ fn perturb(
             },
         ));
     }
-    for (kind, relevant, observation) in cases {
-        let Ok(mut monitor) = Monitor::new(plan.clone(), scene, options) else {
-            continue;
-        };
-        monitor.advance(t);
-        let verdict = monitor.observe(&observation, t);
-        if let Some(e) = monitor.events().last() {
-            tally.observe_us.push(e.decision_us);
-            tally.replan_ms.extend(e.replan_ms);
-        }
-        let triggered = match relevant {
-            true => !matches!(verdict, Verdict::Continue | Verdict::Slow { .. }),
-            false => verdict != Verdict::Continue,
-        };
-        let entry = tally.kinds.entry(kind).or_default();
-        entry[0] += 1;
-        entry[1] += usize::from(triggered);
-        match relevant {
-            true => {
-                tally.relevant += 1;
-                tally.detected += usize::from(triggered);
-            }
-            false => {
-                tally.irrelevant += 1;
-                tally.false_triggers += usize::from(triggered);
-            }
-        }
-        tally.recheck(monitor, t, || {
-            format!(
-                "{}, {kind} at {:.0} % of the way to the open",
-                scene.name.as_deref().unwrap_or_default(),
-                moment * 100.0
-            )
-        });
-    }
+    let withdrawn = Observation {
+        at: Some(t + 1.0),
+        hands: Some(Vec::new()),
+        ..Default::default()
+    };
+    cases
+        .into_iter()
+        .map(|(kind, relevant, first)| Case {
+            kind,
+            relevant: Some(relevant),
+            t,
+            timeline: vec![first, withdrawn.clone()],
+        })
+        .collect()
 }
 
 /// The goal shifted so the planned release footprint is outside it, and
