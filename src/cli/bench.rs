@@ -244,10 +244,11 @@ pub fn monitor(args: &BenchMonitorArgs) -> Result<(), Failure> {
     use afford_bench::monitor::{MonitorBenchConfig, ROBOT, Rechecked, run};
     use afford_planner::monitor::Monitor;
     count_in(args.scenes, "scenes", MAX_SCENES)?;
-    let bar = progress_bar(args.scenes as u64, "scenes");
+    let bar = progress_bar(args.scene.map_or(args.scenes, |_| 1) as u64, "scene pairs");
     let config = MonitorBenchConfig {
         scenes: args.scenes,
         seed: args.common.seed,
+        only: args.scene,
     };
     let robots = [ROBOT, "care_o_bot4"].map(|name| {
         RobotModel::builtin(name).map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))

@@ -231,7 +231,7 @@ pub enum BenchCommand {
     Transits(BenchTransitsArgs),
     /// Planned tool routes on the safety campaign's scenes against the shortest any-angle paths around the perimeters.
     Routes(BenchRoutesArgs),
-    /// The valid-policy detector on seeded planned scenes: relevant and irrelevant perturbations (by construction), detections, false triggers, decision and replan times.
+    /// The valid-policy detector on seeded planned scenes, both robots: perturbations relevant or irrelevant by construction, and adversarial ones (tall and flickering hands ahead of the tool, jitter); every execution re-checked (independent check, physical replay, hand check, stops against the stopping term).
     Monitor(BenchMonitorArgs),
 }
 
@@ -255,9 +255,12 @@ pub struct BenchRoutesArgs {
 
 #[derive(Debug, clap::Args)]
 pub struct BenchMonitorArgs {
-    /// Scenes to plan and perturb (four moments each, up to six perturbations per moment).
+    /// Scene pairs (a KUKA scene and a Care-O-bot scene each) to plan and perturb: four moments of the perturbations by construction, six of the adversarial ones.
     #[arg(long, default_value_t = afford_bench::monitor::MonitorBenchConfig::default().scenes)]
     pub scenes: usize,
+    /// Run scene pair K alone (0-based; the same scenes as in a full run).
+    #[arg(long, value_name = "K")]
+    pub scene: Option<usize>,
     #[command(flatten)]
     pub common: BenchSeedArgs,
 }

@@ -56,13 +56,16 @@ pub struct MonitorBenchConfig {
     /// Planned scenes tried (scenes that do not plan are skipped).
     pub scenes: usize,
     pub seed: u64,
+    /// Run only this scene pair (`0..scenes` otherwise).
+    pub only: Option<usize>,
 }
 
 impl Default for MonitorBenchConfig {
     fn default() -> Self {
         Self {
-            scenes: 60,
+            scenes: 20,
             seed: 1,
+            only: None,
         }
     }
 }
@@ -151,7 +154,11 @@ pub fn run(
 ) -> MonitorBenchReport {
     let options = PlanOptions::default();
     let mut tally = Tally::new(physics);
-    for k in 0..config.scenes {
+    let pairs = match config.only {
+        Some(k) => k..k + 1,
+        None => 0..config.scenes,
+    };
+    for (done, k) in pairs.enumerate() {
         let mut rng =
             ChaCha8Rng::seed_from_u64(config.seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
         let kuka = scene(&mut rng, k);
@@ -159,7 +166,7 @@ pub fn run(
         let mut rng = ChaCha8Rng::seed_from_u64(!config.seed ^ (k as u64).wrapping_mul(0x9E37));
         let cob4 = adversary::scene_cob4(&mut rng, k);
         tally.scene(&cob4, &options, &mut rng);
-        progress(k + 1);
+        progress(done + 1);
     }
     tally.report()
 }
