@@ -75,7 +75,7 @@ impl Verdict {
 }
 
 /// One entry of the event log: `time` (execution clock, s), `changes` in
-/// the scene ("hand hand-1 appeared"), `verdict` (its kind), `reason`,
+/// the scene ("hand hand-1 appeared"), `verdict` (its kind), `brakes`, `reason`,
 /// `message`, `scale`, `subgoals` ("object → goal" of new work), and the
 /// wall-clock `decision_us` and `replan_ms`. `to_dict()` is the event as
 /// `afford run` writes it (without the wall-clock times).
@@ -108,6 +108,11 @@ impl Event {
     #[getter]
     fn verdict(&self) -> &'static str {
         self.inner.verdict
+    }
+    /// True when the verdict brakes the robot to rest now.
+    #[getter]
+    fn brakes(&self) -> bool {
+        self.inner.brakes
     }
     #[getter]
     fn message(&self) -> Option<String> {
