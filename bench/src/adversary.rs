@@ -5,7 +5,7 @@
 //!
 //! | kind | relevant | built as |
 //! |---|---|---|
-//! | `tall_hand_ahead` | when the route passes within its perimeter | a hand 0.17 or 0.25 m tall on the tool's remaining route, where a stop can still keep out of its perimeter: the perimeter plus the stopping term of the tool's planned speed plus the hand's half width plus [`SLACK_M`] from the tool; withdrawn [`HOLD_FOR_S`] later |
+//! | `tall_hand_ahead` | when the route passes within its perimeter | a hand 0.17 or 0.25 m tall on the tool's remaining route, where a stop can still keep out of its perimeter: the perimeter plus the stopping term of the tool's planned speed plus the hand's half width plus [`SLACK_M`] from the tool, its perimeter plus [`BODY_M`] from every link as it comes (not into the arms); withdrawn [`HOLD_FOR_S`] later |
 //! | `flickering_hand_ahead` | likewise | the same hand seen every other 0.1 s frame for [`HOLD_FOR_S`] |
 //! | `jitter` | no | every piece's box shifted ±1.5 px every 0.1 s for a second, below the detection tolerance |
 //!
@@ -105,11 +105,13 @@ pub fn scene_cob4(rng: &mut ChaCha8Rng, k: usize) -> Scenario {
 }
 
 /// The adversarial cases of one planned sub-goal at fraction `moment` of
-/// its duration.
+/// its duration. `links`: where the robot's links with colliders are at a
+/// sample (base frame, m), to keep a hand off the robot's body.
 pub fn cases(
     scene: &Scenario,
     sub: &SubgoalPlan,
     track: &Track,
+    links: &dyn Fn(usize) -> Vec<[f64; 3]>,
     moment: f64,
     seed: u64,
 ) -> Vec<Case> {
@@ -120,7 +122,9 @@ pub fn cases(
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let height = HEIGHTS[rng.random_range(0..HEIGHTS.len())];
     let mut out = Vec::new();
-    if let Some((hand, relevant)) = hand_ahead(scene, track, sample, height) {
+    let ahead = hand_ahead(scene, track, sample, height)
+        .filter(|(hand, _)| off_the_body(scene, hand, &links(sample)));
+    if let Some((hand, relevant)) = ahead {
         let seen = |at: f64, hands: Vec<Hand>| Observation {
             at: Some(at),
             hands: Some(hands),
@@ -204,6 +208,22 @@ fn hand_ahead(scene: &Scenario, track: &Track, sample: usize, height: f64) -> Op
         })
     })
 }
+
+/// The hand's centre lies, horizontally, its perimeter plus [`BODY_M`]
+/// from every link (`links`, where they are as it comes): a person does
+/// not put a hand into the robot's arms (a link hangs down from its frame,
+/// so its height is not trusted).
+fn off_the_body(scene: &Scenario, hand: &Hand, links: &[[f64; 3]]) -> bool {
+    let b = hand.bbox;
+    let c = scene.pixel_to_base([b.u + 0.5 * b.w, b.v + 0.5 * b.l]);
+    let reach = scene.safety.hand_margin + BODY_M;
+    links
+        .iter()
+        .all(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt() >= reach)
+}
+
+/// Room for a link's body around its frame's origin, m.
+pub const BODY_M: f64 = 0.12;
 
 /// Every piece's box shifted by ±1.5 px (alternating, a random direction
 /// per piece) every 0.1 s for a second from `t`, then back.

@@ -92,6 +92,30 @@ pub(super) fn track_of(scene: &Scenario, sub: &SubgoalPlan) -> Track {
     Track::new(sub, arm, scene)
 }
 
+/// The origins of the robot's links with colliders (base frame, m) at
+/// sample `k` of the plan's one sub-goal, the other joints at the start.
+pub(super) fn body_links(scene: &Scenario, plan: &Plan, k: usize) -> Vec<[f64; 3]> {
+    let robot = afford_kinematics::RobotModel::builtin(&scene.robot.model).expect("built-in robot");
+    let sub = &plan.subgoals[0];
+    let (Some(start), Some(motion), Ok(arm)) = (
+        plan.start_state.as_ref(),
+        sub.trajectory.as_ref(),
+        robot.arm(sub.arm.as_deref().unwrap_or_default()),
+    ) else {
+        return Vec::new();
+    };
+    let mut q = start.positions.clone();
+    arm.insert(
+        &mut q,
+        &motion.points[k.min(motion.points.len() - 1)].positions,
+    );
+    let poses = robot.link_poses(&q).unwrap_or_default();
+    (robot.links().iter().zip(&poses))
+        .filter(|(l, _)| !l.colliders.is_empty())
+        .map(|(_, p)| [p.translation.x, p.translation.y, p.translation.z])
+        .collect()
+}
+
 /// The perturbations by construction at one moment of the plan (module
 /// docs), each withdrawn a second later (its hands gone).
 pub(super) fn perturbations(

@@ -5,7 +5,7 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::kinds::{perturbations, track_of};
+use super::kinds::{body_links, perturbations, track_of};
 use super::{KindSafety, MOMENTS, MonitorBenchReport, Recheck};
 use crate::adversary::{self, Case};
 use crate::median;
@@ -59,8 +59,9 @@ impl<'a> Tally<'a> {
         }
         let sub = &plan.subgoals[0];
         let track = track_of(scene, sub);
+        let links = |k: usize| body_links(scene, &plan, k);
         for &moment in &adversary::SPREAD {
-            let cases = adversary::cases(scene, sub, &track, moment, rng.random::<u64>());
+            let cases = adversary::cases(scene, sub, &track, &links, moment, rng.random::<u64>());
             self.execute(scene, &plan, options, moment, cases);
         }
     }
