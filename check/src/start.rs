@@ -21,8 +21,8 @@ pub const START_TILT: f64 = 0.01;
 /// Largest difference from a stated joint value, rad or m.
 pub const START_TOLERANCE: f64 = 1e-9;
 
-/// What the scenario says about the robot's state at t = 0 (issue 8,
-/// kind 7; README "Scenario format").
+/// What the scenario says about the robot's state at t = 0 (README
+/// "Scenario format").
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum StartRule {
     /// Joint values by name.

@@ -1,4 +1,4 @@
-//! Continuous joints (issue 8, kind 10): no position limits are invented,
+//! Continuous joints: no position limits are invented,
 //! IK, path IK, random configurations and the arm-choice cost stay finite
 //! and correct when a joint's range is the whole real line.
 

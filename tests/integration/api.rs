@@ -1,4 +1,4 @@
-//! The library API (issue 11): a scenario or options built in code get the
+//! The library API: a scenario or options built in code get the
 //! errors a file gets, `sensitive:` entries must name something, relative
 //! robot paths follow one rule, a plan re-checks in memory, and `afford
 //! validate` exits 1 on an instruction it cannot execute.

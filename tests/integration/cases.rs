@@ -1,4 +1,4 @@
-//! The grasp and placement cases of issue 8 (tests/fixtures/cases/, copied
+//! The grasp and placement cases (tests/fixtures/cases/, copied
 //! from the independent re-check): each behaves as its header says.
 //! - The palm and the links keep `obstacle_margin` from the target until the
 //!   gripper closes (only the fingers' grasp region may come near it),

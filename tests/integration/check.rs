@@ -1,12 +1,12 @@
 //! `afford check`, the independent gate: it accepts a plan that keeps every
 //! rule and rejects edited trajectories (and the same trajectory against
-//! edited scenes), one per fault kind of issue 8, naming the violation's
+//! edited scenes), one per fault kind, naming the violation's
 //! class. Each check's wall time is printed (`--nocapture`), not asserted.
 //!
 //! The reference plan is `afford plan` of tests/fixtures/check/iiwa-one-piece.yaml
 //! with the accelerations at the first, last and gripper-event samples set
 //! to 0: the planner leaves the acceleration of the piece that ends there
-//! (issue 8, kind 6, gives the gripper its dwell); everything else is as planned.
+//! (the gripper's dwell); everything else is as planned.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -1,4 +1,4 @@
-//! Packing released pieces into goal boxes (issue 9, item 4): a round piece
+//! Packing released pieces into goal boxes: a round piece
 //! packs by its stadium, not its bounding box, a chained piece leaves room
 //! for the later ones, the monitor agrees on the spots, and the independent
 //! check agrees on its own geometry (tests/fixtures/packing/).

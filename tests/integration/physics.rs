@@ -1,4 +1,4 @@
-//! The physical replay (issue 10, done-when 3): every example plan of both
+//! The physical replay: every example plan of both
 //! robots passes it; a trajectory edited to sweep the fingers through a
 //! piece moves that piece and is flagged; a gripper that opens above the
 //! goal lands the piece inside it, one that opens mid-carry does not; two

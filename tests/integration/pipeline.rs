@@ -176,7 +176,7 @@ fn routes_bench_reports_ratios_to_the_oracle() {
     afford(&["bench", "routes", "--scenarios", "0"]).assert_code(2);
 }
 
-// ---- The robot's state at t = 0 (issue 8, kinds 7 and 10) ----
+// ---- The robot's state at t = 0 ----
 
 /// The whole robot's state as a name -> position map.
 fn state_map(state: &Value) -> std::collections::BTreeMap<String, f64> {

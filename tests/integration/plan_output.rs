@@ -1,4 +1,4 @@
-//! `afford plan` for people and programs (issue 11): piped it prints the
+//! `afford plan` for people and programs: piped it prints the
 //! plan's JSON (today's shape plus each refusal's kind, data and message),
 //! `--format summary` (the default on a terminal) a few lines, and `--svg`
 //! draws a plan even when nothing or only part of it planned.

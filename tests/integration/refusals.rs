@@ -1,4 +1,4 @@
-//! Typed refusals (issue 11): every kind of [`Refusal`] a scene can cause
+//! Typed refusals: every kind of [`Refusal`] a scene can cause
 //! is produced by a scene built for it, with its data, and the JSON of the
 //! plan shows `{"kind": ..., ...fields, "message": ...}` next to `reason`.
 

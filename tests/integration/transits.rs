@@ -1,4 +1,4 @@
-//! Transits and the two arms (issue 9, items 3 and 4): an arm stays where its
+//! Transits and the two arms: an arm stays where its
 //! sub-goal left it, the next sub-goal starts there, and the plan's last
 //! sub-goal parks its arm.
 

@@ -1,6 +1,6 @@
 //! Physical replay: a planned or executed trajectory re-played in rapier3d
 //! (rigid-body dynamics, f64) to see what the motion does to the world —
-//! issue 10's last verification, after the geometric checks.
+//! the last verification, after the geometric checks.
 //!
 //! The model ([`PhysicsScene`], docs/decisions.md "Physical replay"): the
 //! table and the boxes are fixed bodies, the pieces dynamic boxes or

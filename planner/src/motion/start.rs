@@ -1,4 +1,4 @@
-//! The robot's state at t = 0 (issue 8, kind 7): where the first sub-goal's
+//! The robot's state at t = 0: where the first sub-goal's
 //! trajectory starts and which pixel its grid starts from. A robot stack
 //! knows its joint state (`robot.joints`); without it a documented rule
 //! stands in:
