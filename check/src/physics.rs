@@ -27,17 +27,9 @@ use afford_planner::trajectory::GripperCommand;
 
 use crate::file::{PlanFile, SubgoalFile};
 use crate::report::{Report, ViolationClass};
-use crate::scene::{Footprint, GOAL_WALL, table_extent};
+pub use crate::scene::ROUND_SHAPES;
+use crate::scene::{Footprint, GOAL_WALL, is_round, table_extent};
 use crate::start;
-
-/// Object shapes whose outline is round (case-insensitive): upright
-/// stadiums in the replay and in the check's scene ([`crate::scene`]).
-pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
-
-/// Whether a scenario shape name is one of [`ROUND_SHAPES`] (any case).
-pub(crate) fn is_round(shape: &str) -> bool {
-    ROUND_SHAPES.iter().any(|s| s.eq_ignore_ascii_case(shape))
-}
 
 /// The replay's scene for `scenario`, the robot at the plan's start.
 pub fn physics_scene(

@@ -3,7 +3,7 @@
 //! (centre, size along the image axes, yaw of the image u axis), standing on
 //! `table_z` with its height. Objects are solids whose pose the check
 //! tracks from sub-goal to sub-goal: boxes, or, when their shape is round
-//! ([`crate::physics::ROUND_SHAPES`]), the upright stadium inside the box —
+//! ([`ROUND_SHAPES`]), the upright stadium inside the box —
 //! two cylinders of the narrower side's radius at the ends of the longer
 //! side and the box between their axes (one cylinder for a square box),
 //! which contains the ellipse inscribed in the box; hands are solid boxes; goals are open
@@ -23,7 +23,15 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, to_parry};
-use crate::physics::is_round;
+
+/// Object shapes whose outline is round (case-insensitive): upright
+/// stadiums in the replay and in the check's scene.
+pub const ROUND_SHAPES: [&str; 3] = ["circle", "cylinder", "disc"];
+
+/// Whether a scenario shape name is one of [`ROUND_SHAPES`] (any case).
+pub(crate) fn is_round(shape: &str) -> bool {
+    ROUND_SHAPES.iter().any(|s| s.eq_ignore_ascii_case(shape))
+}
 
 /// Wall and floor thickness of a goal box, m (the value of the collision
 /// crate's `GOAL_WALL`, copied: the boxes are the scenario's, not afford's).

@@ -34,6 +34,7 @@ mod error;
 mod fixture;
 
 pub mod replay;
+mod report;
 mod robot;
 mod scene;
 mod sweep;

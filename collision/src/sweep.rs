@@ -22,7 +22,7 @@ use parry3d::math::Pose as PPose;
 use parry3d::query;
 use parry3d::shape::SharedShape;
 
-use crate::check::{CheckSettings, CheckStats, Collision, HitKind};
+use crate::report::{CheckSettings, CheckStats, Collision, HitKind};
 use crate::scene::{Scene, aabb_distance};
 
 /// What a moving body is checked against.
