@@ -10,7 +10,7 @@
 //! a trapezoidal `σ̇` ([`Shape::Trapezoid`]), or from any state the quintic
 //! from `(σ₀, σ̇₀, 0)` to `(σ*, 0, 0)` (`σ̇₀` that of the ramp under way),
 //! read at the plan's samples (`s(t) = ∫σ` solved for each sample's plan
-//! time) and executed with the intervals of [`super::execute`]. A stop
+//! time) and executed with the intervals of the `execute` module. A stop
 //! ends exactly on a plan sample: its `T` solves `L = T (σ₀/2 + σ̇₀ T/10)`
 //! for the plan time `L` to that sample. Candidates are tried soonest
 //! settled first, each started after 0 or more samples of the speed under

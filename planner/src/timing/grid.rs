@@ -23,14 +23,21 @@
 //! positive, which occur where a joint turns round, `q' ≈ 0`). Such rows are
 //! closed under the componentwise maximum of two solutions, so the feasible
 //! set has a **greatest element** `b*`, and `b*` minimises every function
-//! decreasing in each `b_i`, the traversal time included (see [`topp`](super::topp)).
+//! decreasing in each `b_i`, the traversal time included (see the `topp` module).
 //!
 //! In the `(b_i, b_{i+1})` plane only the rows on the upper-right convex
 //! frontier of `{0} ∪ {(α, β)}` can be active (`b ≥ 0`); the others are
 //! dropped, leaving typically 2–4 rows per segment.
 
 use super::spline::PiecewiseCubic;
-use super::topp::SegmentRows;
+
+/// Linear rows `α b_i + β b_{i+1} ≤ 1`, grouped by segment.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SegmentRows {
+    /// Rows of segment `i` are `rows[offsets[i]..offsets[i + 1]]`.
+    pub offsets: Vec<usize>,
+    pub rows: Vec<(f64, f64)>,
+}
 
 /// The discretised path: grid points and the spline piece of each segment.
 #[derive(Debug, Clone, PartialEq)]

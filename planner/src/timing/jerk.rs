@@ -30,7 +30,7 @@
 //! path cubic, so `q(t)` is a polynomial of degree ≤ 6 and the 4-point
 //! Gauss–Legendre rule integrates it exactly.
 
-use super::sample::SpeedProfile;
+use super::profile::SpeedProfile;
 use super::spline::PiecewiseCubic;
 
 /// Gauss–Legendre nodes and weights on `[0, 1]`, 4 points (exact to degree 7).

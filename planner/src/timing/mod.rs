@@ -83,6 +83,7 @@ pub mod deviation;
 pub mod grid;
 pub mod jerk;
 pub mod jerk_floor;
+pub mod profile;
 pub mod ramp;
 pub mod sample;
 pub mod separation;

@@ -9,8 +9,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::deviation::ToolPathCheck;
-use super::grid::PathGrid;
 use super::jerk::{Filtered, State, sample_jerk};
+pub use super::profile::SpeedProfile;
 use super::spline::PiecewiseCubic;
 
 /// One sample, the shape of ROS `trajectory_msgs/JointTrajectoryPoint`
@@ -34,51 +34,6 @@ impl JointTrajectory {
     /// `time_from_start` of the last point, 0 for an empty trajectory.
     pub fn duration(&self) -> f64 {
         self.points.last().map_or(0.0, |p| p.time_from_start)
-    }
-}
-
-/// The solved profile on the grid: `s_i`, `ṡ_i = √b_i`, `t_i`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SpeedProfile {
-    /// Grid points, units of the path parameter (rad of joint-space chord).
-    pub s: Vec<f64>,
-    /// `ṡ` at each grid point, per second.
-    pub s_dot: Vec<f64>,
-    /// Time at each grid point, seconds.
-    pub t: Vec<f64>,
-}
-
-impl SpeedProfile {
-    /// From `b_i = ṡ²` at the grid points.
-    pub fn new(grid: &PathGrid, b: &[f64]) -> Self {
-        let s_dot: Vec<f64> = b.iter().map(|b| b.max(0.0).sqrt()).collect();
-        let mut t = Vec::with_capacity(b.len());
-        t.push(0.0);
-        for i in 0..grid.segments() {
-            let dt = 2.0 * grid.step(i) / (s_dot[i] + s_dot[i + 1]);
-            t.push(t[i] + dt);
-        }
-        Self {
-            s: grid.s.clone(),
-            s_dot,
-            t,
-        }
-    }
-
-    /// Total duration, seconds.
-    pub fn duration(&self) -> f64 {
-        *self.t.last().unwrap_or(&0.0)
-    }
-
-    /// `(s, ṡ, s̈, segment)` at time `t` (clamped to the profile).
-    pub fn state_at(&self, t: f64) -> (f64, f64, f64, usize) {
-        let last = self.t.len() - 2;
-        let i = (self.t.partition_point(|&ti| ti <= t).max(1) - 1).min(last);
-        let dt = self.t[i + 1] - self.t[i];
-        let tau = (t - self.t[i]).clamp(0.0, dt);
-        let acc = (self.s_dot[i + 1] - self.s_dot[i]) / dt;
-        let s = self.s[i] + self.s_dot[i] * tau + 0.5 * acc * tau * tau;
-        (s.min(self.s[i + 1]), self.s_dot[i] + acc * tau, acc, i)
     }
 }
 
@@ -277,6 +232,7 @@ fn within(value: f64, limit: f64, tolerance: f64) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use super::super::grid::PathGrid;
     use super::super::spline::{chord_knots, widest_radii};
     use super::*;
 

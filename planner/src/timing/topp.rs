@@ -54,14 +54,7 @@ use clarabel::solver::{
 use serde::{Deserialize, Serialize};
 
 use super::grid::PathGrid;
-
-/// Linear rows `α b_i + β b_{i+1} ≤ 1`, grouped by segment.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct SegmentRows {
-    /// Rows of segment `i` are `rows[offsets[i]..offsets[i + 1]]`.
-    pub offsets: Vec<usize>,
-    pub rows: Vec<(f64, f64)>,
-}
+pub use super::grid::SegmentRows;
 
 /// How Clarabel ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
