@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::clearance::{ArmMotion, FreeMoves, Leg, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
+pub use crate::error::UnsolvedSubgoal;
 use crate::error::{FieldIssue, HitPlace, PlanError, Refusal, TransitFailure};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
@@ -252,18 +253,6 @@ pub struct GridInfo {
     pub size: [usize; 2],
     pub cell_px: [f64; 2],
     pub origin_px: [f64; 2],
-}
-
-/// A sub-goal that could not be planned: `reason` is the message a person
-/// reads, `refusal` the typed kind and data a program branches on (JSON
-/// `{"kind": ..., ...fields, "message": ...}`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct UnsolvedSubgoal {
-    pub object: String,
-    pub goal: String,
-    pub reason: String,
-    #[serde(serialize_with = "crate::error::serialize_explained")]
-    pub refusal: Refusal,
 }
 
 impl UnsolvedSubgoal {
