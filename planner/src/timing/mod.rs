@@ -93,13 +93,16 @@ pub mod tool_speed;
 pub mod topp;
 pub mod trajectory;
 
+mod finish;
+mod outcome;
+mod refine;
 mod run;
+mod settings;
 
 pub use deviation::ToolFk;
-pub use run::{
-    JointLimits, MAX_SAMPLES, Proximity, SeparationSummary, SolveStats, Timing, TimingError,
-    TimingSettings, TimingStatus, time_parameterize, time_parameterize_tool,
-};
+pub use outcome::{MAX_SAMPLES, SeparationSummary, SolveStats, Timing, TimingError, TimingStatus};
+pub use run::{time_parameterize, time_parameterize_tool};
 pub use sample::{JointTrajectory, LimitKind, LimitViolation, SpeedProfile, TrajectoryPoint};
 pub use separation::{Hand, SeparationSettings};
+pub use settings::{JointLimits, Proximity, TimingSettings};
 pub use topp::{Program, SolverOutcome};
