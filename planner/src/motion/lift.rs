@@ -47,6 +47,7 @@
 //! Opening: the fingers close across the object's narrower side (metres);
 //! that width plus `opening_clearance` must not exceed the gripper's
 //! `max_opening`, else the sub-goal is refused naming both widths.
+
 use crate::error::Refusal;
 use crate::grid::Cell;
 use crate::motion::route::taut;
