@@ -16,14 +16,14 @@ use serde::{Deserialize, Serialize};
 use crate::clearance::{ArmMotion, FreeMoves, Leg, PathHit, check_motion, gripper_reach};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::{FieldIssue, HitPlace, PlanError, Refusal, TransitFailure};
-use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
+use crate::grid::{Cell, CellCode, GridRequest, Obstacles, StateGrid};
 use crate::instruction::{Interpretation, SubGoal, work};
 use crate::lift::{
     GripperReach, LiftRequest, LiftSettings, LiftedMotion, Phase, carry_height, grasp_pose, lift,
 };
 use crate::motion::{IK_STARTS, IkStart, solve_motions};
-use crate::oracle;
 use crate::place::Room;
+use crate::route_grid::routable_task;
 use crate::scenario::{PixelBox, Scenario};
 use crate::start::{self, FirstSubgoal, StartState};
 use crate::task::{Action, GridTask};
@@ -252,6 +252,11 @@ pub struct GridInfo {
     pub size: [usize; 2],
     pub cell_px: [f64; 2],
     pub origin_px: [f64; 2],
+    /// What the grid painted as obstacles: left out for the paper's grid
+    /// (every other object and goal), `sensitive` when the route passes
+    /// over the rest ([`crate::discrete::route_grid`]).
+    #[serde(skip_serializing_if = "Obstacles::is_all")]
+    pub obstacles: Obstacles,
 }
 
 /// A sub-goal that could not be planned: `reason` is the message a person
@@ -681,14 +686,12 @@ impl Planner {
             )
             .map_err(Refused::early)?;
         }
-        let task = timed(&mut timings.grid, || {
-            let mut grid = StateGrid::build_placing(scene, request, room(world, pass.later));
-            blocked.iter().for_each(|&cell| grid.block(cell));
-            GridTask::new(grid)
+        let (task, optimal) = timed(&mut timings.grid, || {
+            routable_task(scene, request, room(world, pass.later), blocked)
         });
         let learner = ContextualQLearner::new(scene.learner.clone());
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
-        let Some(optimal) = oracle::optimal_length(&task) else {
+        let Some(optimal) = optimal else {
             return Err(match blocked.is_empty() {
                 true => Refused::early(why_unsolvable(scene, request, room(world, pass.later))),
                 false => Refused::motion(Refusal::NoRoute {
@@ -1342,6 +1345,7 @@ fn subgoal_plan(
             size: [grid.rows, grid.cols],
             cell_px: grid.cell_size,
             origin_px: grid.origin,
+            obstacles: grid.obstacles,
         },
         waypoints: None,
         arm: None,
@@ -1405,8 +1409,10 @@ fn why_unsolvable(scene: &Scenario, request: GridRequest, room: Room) -> Refusal
         hands: Vec::new(),
         ..scene.clone()
     };
-    let grid = StateGrid::build_placing(&without_hands, request, room);
-    if oracle::optimal_length(&GridTask::new(grid)).is_some() {
+    if routable_task(&without_hands, request, room, &[])
+        .1
+        .is_some()
+    {
         return Refusal::HandBlocksRoute { object, goal };
     }
     Refusal::NoRoute {

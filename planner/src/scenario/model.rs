@@ -242,9 +242,17 @@ impl Scenario {
     /// every object on the table, so an object in a box spans the floor
     /// too: its top is where it really is, its bottom never above it.
     pub fn top_above_table(&self, object: &Object) -> f64 {
-        match self.goal_holding(object) {
-            Some(_) => object.height + afford_collision::GOAL_WALL,
-            None => object.height,
+        object.height + self.support_under(object.bbox)
+    }
+
+    /// Height above the table top of what an object with footprint `b`
+    /// stands on, m: a goal box's floor when the box holds its centre, else
+    /// 0 (the table).
+    pub fn support_under(&self, b: PixelBox) -> f64 {
+        let c = b.centre();
+        match self.goals.iter().any(|g| g.bbox.contains(c)) {
+            true => afford_collision::GOAL_WALL,
+            false => 0.0,
         }
     }
 
