@@ -199,10 +199,13 @@ impl StateGrid {
         let px = |metres: f64| [metres / mu, metres / mv];
         self.paint(s.goals[req.goal].bbox, [0.0, 0.0], CellCode::Goal);
         let all = self.obstacles == Obstacles::All;
-        for (_, goal) in s.goals.iter().enumerate().filter(|&(i, _)| i != req.goal) {
-            if all {
-                self.paint(goal.bbox, px(s.safety.obstacle_margin), CellCode::Obstacle);
-            }
+        let other_goals = s
+            .goals
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| all && i != req.goal);
+        for (_, goal) in other_goals {
+            self.paint(goal.bbox, px(s.safety.obstacle_margin), CellCode::Obstacle);
         }
         for (i, object) in s.objects.iter().enumerate() {
             if i == req.object

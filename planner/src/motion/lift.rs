@@ -385,7 +385,7 @@ pub fn grasp_height(
     if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
         // Heights so far are above the piece's bottom: a piece resting in
         // a goal box stands on its floor.
-        return Ok(grasp + s.top_above_table(held) - h);
+        return Ok(grasp + s.support_under(held.bbox));
     }
     Err(Refusal::TooTallForFingers {
         object: held.name.clone(),
