@@ -6,7 +6,15 @@ use afford_bench::monitor::{MonitorBenchConfig, run};
 
 #[test]
 fn monitor_relevant_always_detected_irrelevant_never_triggers() {
-    let report = run(&MonitorBenchConfig { scenes: 4, seed: 7 }, |_| {}, None);
+    let report = run(
+        &MonitorBenchConfig {
+            scenes: 4,
+            seed: 7,
+            only: None,
+        },
+        |_| {},
+        None,
+    );
     assert!(report.relevant >= 20, "{report:?}");
     assert!(report.irrelevant >= 5, "{report:?}");
     assert_eq!(report.detected, report.relevant, "{report:?}");

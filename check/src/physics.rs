@@ -28,7 +28,7 @@ use afford_planner::trajectory::GripperCommand;
 use crate::file::{PlanFile, SubgoalFile};
 use crate::report::{Report, ViolationClass};
 pub use crate::scene::ROUND_SHAPES;
-use crate::scene::{Footprint, GOAL_WALL, is_round, table_extent};
+use crate::scene::{Footprint, is_round, support_under, table_extent};
 use crate::start;
 
 /// The replay's scene for `scenario`, the robot at the plan's start.
@@ -67,11 +67,7 @@ pub fn physics_scene(
                 true => PieceShape::Stadium { size },
                 false => PieceShape::Box { size },
             };
-            let in_goal = scenario
-                .goals
-                .iter()
-                .any(|g| g.bbox.contains(o.bbox.centre()));
-            let floor = z0 + if in_goal { GOAL_WALL } else { 0.0 };
+            let floor = z0 + support_under(scenario, o.bbox);
             PhysicsPiece::standing(&o.name, shape, f.centre, f.yaw, floor)
         })
         .collect();
@@ -185,6 +181,7 @@ pub fn check_physics_over_time(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::GOAL_WALL;
 
     /// The default scenario's pieces: boxes of their footprint and height on
     /// the table, a round one the stadium of its footprint, one inside a

@@ -12,8 +12,9 @@
 //!
 //! Margins (the safety perimeters a body must stay out of): other objects
 //! `obstacle_margin` (`sensitive_margin` when sensitive), hands
-//! `hand_margin`, other goals `obstacle_margin`, the sub-goal's own goal and
-//! the table 0 (touching still counts as penetration).
+//! `hand_margin`, other goals `obstacle_margin`, the sub-goal's own goal,
+//! the goal the target rests in at the sub-goal's start (it is picked from
+//! that box's floor) and the table 0 (touching still counts as penetration).
 
 use afford_planner::Scenario;
 use afford_planner::scenario::PixelBox;
@@ -139,7 +140,18 @@ impl Piece {
     }
 }
 
-/// The scenario's objects where the camera sees them.
+/// Height above the table of what a piece with footprint `b` stands on, m:
+/// a goal box's floor ([`GOAL_WALL`]) when a goal's box holds its centre,
+/// else the table (0).
+pub(crate) fn support_under(s: &Scenario, b: PixelBox) -> f64 {
+    match s.goals.iter().any(|g| g.bbox.contains(b.centre())) {
+        true => GOAL_WALL,
+        false => 0.0,
+    }
+}
+
+/// The scenario's objects where the camera sees them, each on its support
+/// ([`support_under`]).
 pub(crate) fn pieces(s: &Scenario) -> Vec<Piece> {
     s.objects
         .iter()
@@ -147,7 +159,7 @@ pub(crate) fn pieces(s: &Scenario) -> Vec<Piece> {
             let f = Footprint::of(s, o.bbox);
             Piece {
                 name: o.name.clone(),
-                pose: f.pose(s.camera.table_z, o.height),
+                pose: f.pose(s.camera.table_z + support_under(s, o.bbox), o.height),
                 half: [0.5 * f.size[0], 0.5 * f.size[1], 0.5 * o.height],
                 sensitive: s.is_sensitive(o),
                 round: is_round(&o.shape),
@@ -222,19 +234,17 @@ pub(crate) fn obstacles(
         };
         out.push(Obstacle::piece(p, margin, Role::Obstacle));
     }
+    let at = pieces[target].pose.translation.vector;
     for (i, g) in s.goals.iter().enumerate() {
-        let margin = if i == goal {
+        let footprint = Footprint::of(s, g.bbox);
+        let local = footprint.local([at.x, at.y]);
+        let holds_target = (0..2).all(|k| local[k].abs() < 0.5 * footprint.size[k]);
+        let margin = if i == goal || holds_target {
             0.0
         } else {
             safety.obstacle_margin
         };
-        out.push(open_box(
-            &g.name,
-            margin,
-            &Footprint::of(s, g.bbox),
-            z0,
-            g.height,
-        ));
+        out.push(open_box(&g.name, margin, &footprint, z0, g.height));
     }
     for h in &s.hands {
         let f = Footprint::of(s, h.bbox);

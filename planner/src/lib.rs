@@ -40,7 +40,7 @@ pub mod timing;
 
 // The stages keep their short paths (`afford_planner::grid`, …): the folders
 // group them by pipeline stage, the names stay what users already import.
-pub use discrete::{affordance, cql, export, grid, oracle, task};
+pub use discrete::{affordance, cql, export, grid, oracle, route_grid, task};
 pub use motion::{clearance, geometry, lift, place, smooth, start, transit};
 pub use timing::trajectory;
 

@@ -10,6 +10,7 @@ mod cql_properties;
 mod doc_links;
 mod examples;
 mod export_mdp;
+mod false_refusals;
 mod features;
 mod hand_check;
 mod instructions;

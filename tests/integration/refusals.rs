@@ -3,6 +3,7 @@
 //! plan shows `{"kind": ..., ...fields, "message": ...}` next to `reason`.
 
 use afford::planner::error::Refusal;
+use afford::planner::grid::Obstacles;
 use afford::planner::plan::UnsolvedSubgoal;
 use afford::planner::scenario::{self, Format, Scenario};
 use afford::planner::{PlanError, PlanOptions, Stage, plan};
@@ -102,6 +103,8 @@ fn refusal_hand_blocks_every_route() {
     assert_eq!(json["refusal"]["goal"], "left box");
 }
 
+/// A wall across the table: passed over when it is low and ordinary
+/// (the carry rises over it), no route when it is sensitive.
 #[test]
 fn refusal_no_route_names_object_and_goal() {
     let wall: String = (0..16)
@@ -112,7 +115,14 @@ fn refusal_no_route_names_object_and_goal() {
             )
         })
         .collect();
-    let s = scene(&format!("{SQUARE}{wall}"), "");
+    let mut s = scene(&format!("{SQUARE}{wall}"), "");
+    let options = PlanOptions {
+        until: Stage::Grid,
+        ..PlanOptions::default()
+    };
+    let over = plan(&s, &options).expect("the carry passes over a low wall");
+    assert_eq!(over.subgoals[0].grid.obstacles, Obstacles::Sensitive);
+    s.sensitive = vec!["red".into()];
     let u = refusal_of(&s, Stage::Grid);
     let json = assert_json(&u, "no_route");
     assert_eq!(json["refusal"]["blocked_cells"], 0);

@@ -14,6 +14,12 @@
 //!   including other targets, and every other goal with what rests in it),
 //!   hands 0.4, and finally the target 0.1 unless a hand covers it. Objects
 //!   already resting in the sub-goal's own goal are part of that goal.
+//! - The carry may pass over what is below it ([`Obstacles::Sensitive`]):
+//!   when the paper's grid has no route (its cells, the target's size, round
+//!   the gaps between grown boxes shut), the grid is built again with only
+//!   the sensitive objects' perimeters and the hands blocked; the carry then
+//!   rises over the rest (the tallest thing passed over), and the 3-D
+//!   collision check keeps every margin ([`crate::discrete::route_grid`]).
 //! - If the gripper starts over obstacle cells (it has just released into a
 //!   box that is an obstacle for the next sub-goal), that connected obstacle
 //!   region is cleared: the gripper is above it and must be able to leave.
@@ -46,6 +52,26 @@ impl CellCode {
     /// Cells the gripper must never enter.
     pub fn is_blocked(self) -> bool {
         matches!(self, Self::Obstacle | Self::Hand)
+    }
+}
+
+/// Which elements a grid paints as obstacles (hands are always painted).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Obstacles {
+    /// Every other object and every other goal: the paper's grid, the
+    /// route goes round them.
+    #[default]
+    All,
+    /// The sensitive objects only: the route may pass over the others and
+    /// the other goals at carry height.
+    Sensitive,
+}
+
+impl Obstacles {
+    /// Whether this is the paper's grid (serialised plans leave it out).
+    pub fn is_all(&self) -> bool {
+        *self == Self::All
     }
 }
 
@@ -94,6 +120,8 @@ pub struct StateGrid {
     /// the cells' flood fill reached only through the grid's rounding stay
     /// closed to it.
     pub escape: Vec<usize>,
+    /// What was painted as obstacles.
+    pub obstacles: Obstacles,
 }
 
 /// What one sub-goal puts where: indices into the scenario's objects/goals.
@@ -118,6 +146,16 @@ impl StateGrid {
     /// already in the goal at their margins, and the pieces the chain
     /// releases there later (`room.later`) still fit.
     pub fn build_placing(scenario: &Scenario, req: GridRequest, room: Room) -> Self {
+        Self::build_painting(scenario, req, room, Obstacles::All)
+    }
+
+    /// [`Self::build_placing`] painting `obstacles` as obstacles.
+    pub fn build_painting(
+        scenario: &Scenario,
+        req: GridRequest,
+        room: Room,
+        obstacles: Obstacles,
+    ) -> Self {
         let target_box = scenario.objects[req.object].bbox;
         let cell_size = [target_box.w, target_box.l];
         let image = [scenario.camera.width as f64, scenario.camera.height as f64];
@@ -141,6 +179,7 @@ impl StateGrid {
             checked: Vec::new(),
             cleared: Vec::new(),
             escape: Vec::new(),
+            obstacles,
         };
         grid.codes = vec![CellCode::Empty; grid.rows * grid.cols];
         grid.start = grid.cell_at(req.gripper);
@@ -159,11 +198,20 @@ impl StateGrid {
         let [mu, mv] = s.metres_per_pixel();
         let px = |metres: f64| [metres / mu, metres / mv];
         self.paint(s.goals[req.goal].bbox, [0.0, 0.0], CellCode::Goal);
-        for (_, goal) in s.goals.iter().enumerate().filter(|&(i, _)| i != req.goal) {
+        let all = self.obstacles == Obstacles::All;
+        let other_goals = s
+            .goals
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| all && i != req.goal);
+        for (_, goal) in other_goals {
             self.paint(goal.bbox, px(s.safety.obstacle_margin), CellCode::Obstacle);
         }
         for (i, object) in s.objects.iter().enumerate() {
-            if i == req.object || s.goal_holding(object) == Some(req.goal) {
+            if i == req.object
+                || s.goal_holding(object) == Some(req.goal)
+                || !(all || s.is_sensitive(object))
+            {
                 continue;
             }
             let margin = if s.is_sensitive(object) {
@@ -387,6 +435,7 @@ impl StateGrid {
             checked: Vec::new(),
             cleared: Vec::new(),
             escape: Vec::new(),
+            obstacles: Obstacles::All,
         };
         let goals: Vec<[f64; 2]> = (0..grid.len())
             .filter(|&i| grid.codes[i] == CellCode::Goal)

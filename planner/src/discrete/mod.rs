@@ -10,4 +10,5 @@ pub mod cql;
 pub mod export;
 pub mod grid;
 pub mod oracle;
+pub mod route_grid;
 pub mod task;

@@ -69,7 +69,7 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
         .iter()
         .filter_map(|name| scene.object_index(name))
         .collect();
-    let grid = StateGrid::build_placing(
+    let grid = StateGrid::build_painting(
         &planned,
         GridRequest {
             object,
@@ -80,6 +80,7 @@ pub fn check(scene: &Scenario, r: &Remaining) -> Result<(), Fault> {
             opening: r.opening,
             later: &later,
         },
+        plan.grid.obstacles,
     );
     if !release_inside(&planned, object, goal, plan.release_px) {
         return Err(Fault::GoalMoved);

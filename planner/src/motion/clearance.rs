@@ -69,8 +69,10 @@ pub fn check_motion(
     let grasp_pose = arm.fk(grasp);
     let mut resting = full.clone();
     resting.size[2] -= SUPPORT_GAP;
-    let on_table = Attachment::grasped(&resting, spec.table_z + SUPPORT_GAP, &grasp_pose);
-    let held = Attachment::grasped(&full, spec.table_z, &grasp_pose);
+    // The table, or the floor of the goal box it was picked from.
+    let support_z = spec.table_z + m.scenario.support_under(grasped_box);
+    let on_table = Attachment::grasped(&resting, support_z + SUPPORT_GAP, &grasp_pose);
+    let held = Attachment::grasped(&full, support_z, &grasp_pose);
     // The support slice is left out only until the object has left the table.
     let lift_z = grasp_pose.translation.vector.z + 2.0 * SUPPORT_GAP;
     let lifted = match m.held {

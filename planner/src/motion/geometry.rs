@@ -6,7 +6,8 @@
 //!
 //! Margins: other objects get `obstacle_margin` (`sensitive_margin` when
 //! sensitive), hands `hand_margin`, goals `obstacle_margin` — except the
-//! sub-goal's own goal and the table, which the gripper and the held object
+//! sub-goal's own goal, the goal the target rests in (it is picked from
+//! that box's floor) and the table, which the gripper and the held object
 //! must enter or come close to and so get none (touching is still a
 //! collision). The sub-goal's target is in the scene too, with
 //! `obstacle_margin` (it is meant to be touched, so never the sensitive
@@ -30,8 +31,9 @@ pub fn scene_spec(scenario: &Scenario, target: usize, goal: usize) -> SceneSpec 
         let height = scenario.top_above_table(o);
         object_box(scenario, o, o.bbox, height, margin)
     });
+    let source = scenario.goal_holding(&scenario.objects[target]);
     let goals = scenario.goals.iter().enumerate().map(|(i, g)| {
-        let margin = if i == goal {
+        let margin = if i == goal || Some(i) == source {
             0.0
         } else {
             margins.obstacle_margin

@@ -13,8 +13,8 @@ use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::SubGoal;
 use crate::lift::{LiftRequest, grasp_pose, lift};
 use crate::motion::{IK_STARTS, IkStart, solve_motions};
-use crate::oracle;
 use crate::place::Room;
+use crate::route_grid::routable_task;
 use crate::scenario::Scenario;
 use crate::task::GridTask;
 use crate::trajectory::{TimingRequest, time_motion};
@@ -71,14 +71,12 @@ impl Planner {
             )
             .map_err(Refused::early)?;
         }
-        let task = timed(&mut timings.grid, || {
-            let mut grid = StateGrid::build_placing(scene, request, room(world, pass.later));
-            blocked.iter().for_each(|&cell| grid.block(cell));
-            GridTask::new(grid)
+        let (task, optimal) = timed(&mut timings.grid, || {
+            routable_task(scene, request, room(world, pass.later), blocked)
         });
         let learner = ContextualQLearner::new(scene.learner.clone());
         let learned = timed(&mut timings.cql, || learner.learn(&task, seed));
-        let Some(optimal) = oracle::optimal_length(&task) else {
+        let Some(optimal) = optimal else {
             return Err(match blocked.is_empty() {
                 true => Refused::early(why_unsolvable(scene, request, room(world, pass.later))),
                 false => Refused::motion(Refusal::NoRoute {
@@ -301,6 +299,7 @@ pub(super) fn subgoal_plan(
             size: [grid.rows, grid.cols],
             cell_px: grid.cell_size,
             origin_px: grid.origin,
+            obstacles: grid.obstacles,
         },
         waypoints: None,
         arm: None,
@@ -328,8 +327,10 @@ pub(super) fn why_unsolvable(scene: &Scenario, request: GridRequest, room: Room)
         hands: Vec::new(),
         ..scene.clone()
     };
-    let grid = StateGrid::build_placing(&without_hands, request, room);
-    if oracle::optimal_length(&GridTask::new(grid)).is_some() {
+    if routable_task(&without_hands, request, room, &[])
+        .1
+        .is_some()
+    {
         return Refusal::HandBlocksRoute { object, goal };
     }
     Refusal::NoRoute {

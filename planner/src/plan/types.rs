@@ -12,6 +12,7 @@ use afford_kinematics::PathSettings;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{FieldIssue, PlanError, Refusal, UnsolvedSubgoal};
+use crate::grid::Obstacles;
 use crate::instruction::SubGoal;
 use crate::lift::{LiftSettings, LiftedMotion};
 use crate::scenario::PixelBox;
@@ -240,6 +241,11 @@ pub struct GridInfo {
     pub size: [usize; 2],
     pub cell_px: [f64; 2],
     pub origin_px: [f64; 2],
+    /// What the grid painted as obstacles: left out for the paper's grid
+    /// (every other object and goal), `sensitive` when the route passes
+    /// over the rest ([`crate::discrete::route_grid`]).
+    #[serde(skip_serializing_if = "Obstacles::is_all")]
+    pub obstacles: Obstacles,
 }
 
 impl UnsolvedSubgoal {

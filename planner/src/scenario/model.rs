@@ -232,7 +232,12 @@ impl Scenario {
     /// The goal whose box contains the object's centre, if any: objects
     /// resting in a box belong to that box, not to the free table.
     pub fn goal_holding(&self, object: &Object) -> Option<usize> {
-        let c = object.bbox.centre();
+        self.goal_under(object.bbox)
+    }
+
+    /// The goal whose box contains the centre of footprint `b`, if any.
+    pub fn goal_under(&self, b: PixelBox) -> Option<usize> {
+        let c = b.centre();
         self.goals.iter().position(|g| g.bbox.contains(c))
     }
 
@@ -242,10 +247,15 @@ impl Scenario {
     /// every object on the table, so an object in a box spans the floor
     /// too: its top is where it really is, its bottom never above it.
     pub fn top_above_table(&self, object: &Object) -> f64 {
-        match self.goal_holding(object) {
-            Some(_) => object.height + afford_collision::GOAL_WALL,
-            None => object.height,
-        }
+        object.height + self.support_under(object.bbox)
+    }
+
+    /// Height above the table top of what an object with footprint `b`
+    /// stands on, m: a goal box's floor when the box holds its centre, else
+    /// 0 (the table).
+    pub fn support_under(&self, b: PixelBox) -> f64 {
+        self.goal_under(b)
+            .map_or(0.0, |_| afford_collision::GOAL_WALL)
     }
 
     /// Metres per pixel along u and along v, from `pixel_to_base`.

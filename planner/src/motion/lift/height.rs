@@ -24,7 +24,8 @@ pub fn grasp_pose(
     ))
 }
 
-/// TCP height above the table at the grasp (see the module doc), or why no
+/// TCP height above the table at the grasp (see the module doc; over a
+/// goal box's floor for a piece resting in one), or why no
 /// height keeps the palm clear of the object while the fingers still hold it.
 pub fn grasp_height(
     s: &Scenario,
@@ -42,7 +43,9 @@ pub fn grasp_height(
     let depth = h - tips;
     // 1 nm: a grip of exactly `min_grip_depth` passes despite rounding.
     if tips <= h / 2.0 || depth >= settings.min_grip_depth - 1e-9 {
-        return Ok(grasp);
+        // Heights so far are above the piece's bottom: a piece resting in
+        // a goal box stands on its floor.
+        return Ok(grasp + s.support_under(held.bbox));
     }
     Err(Refusal::TooTallForFingers {
         object: held.name.clone(),
