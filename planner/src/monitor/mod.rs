@@ -26,6 +26,7 @@ pub mod execute;
 mod interval;
 pub mod policy;
 mod ramp;
+mod replan;
 pub mod route;
 pub mod separation;
 mod state;
