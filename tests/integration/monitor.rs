@@ -419,11 +419,9 @@ fn cut_short(example: &str, reason: &str, gripper: &[&str]) -> Value {
 }
 
 /// An abort stops the robot for good inside a sub-goal, and the samples
-/// executed until then went to the robot. They used to be written without
-/// the independent check or the physical replay (the sub-goal had no end
-/// scene); now the sub-goal cut short is checked and replayed as far as it
-/// went, holding the piece (a hand that never leaves) or before any grasp
-/// (the piece taken away).
+/// executed until then went to the robot: the sub-goal cut short is checked
+/// independently and replayed as far as it went, holding the piece (a hand
+/// that never leaves) or before any grasp (the piece taken away).
 #[test]
 fn aborted_subgoal_is_checked_and_replayed_as_far_as_it_went() {
     let json = cut_short("hand-stays-in-the-way.yaml", "waited_too_long", &["close"]);
