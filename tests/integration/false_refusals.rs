@@ -6,6 +6,8 @@
 //!   over what is not sensitive, the carry rises over it.
 //! - A piece lying in a goal box: picked from the box's floor, the box it
 //!   lies in kept like the goal being entered.
+//! - A gripper over a low hand's grown footprint but above its 3-D
+//!   perimeter: the learner starts from the free cell nearest the gripper.
 
 use afford::planner::grid::{CellCode, GridRequest, Obstacles, StateGrid};
 use afford::planner::scenario;
@@ -92,4 +94,20 @@ fn the_grid_passing_over_things_never_passes_over_a_sensitive_object() {
     for mode in [Obstacles::All, Obstacles::Sensitive] {
         assert_eq!(code_under(mode, "green-hexagon-1"), CellCode::Obstacle);
     }
+}
+
+#[test]
+fn gripper_over_a_low_hands_footprint_is_not_refused() {
+    let plan = planned_checked_and_run("gripper-over-a-low-hands-footprint", 0);
+    let subgoal = &plan["subgoals"][0];
+    let grid = &subgoal["grid"];
+    let cell_of = |k: usize, px: f64| {
+        ((px - grid["origin_px"][k].as_f64().unwrap()) / grid["cell_px"][k].as_f64().unwrap())
+            .floor() as u64
+    };
+    // robot.start is (320, 460): the learner starts beside it, off the hand's cells.
+    let under_gripper = [cell_of(1, 460.0), cell_of(0, 320.0)];
+    let first = [0, 1].map(|k| subgoal["cells"][0][k].as_u64().unwrap());
+    assert_ne!(first, under_gripper, "{subgoal}");
+    assert!(subgoal["trajectory"].is_object(), "{subgoal}");
 }

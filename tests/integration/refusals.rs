@@ -73,13 +73,15 @@ fn refusal_hand_covers_target() {
     assert_eq!(json["refusal"]["object"], "blue-square-1");
 }
 
+/// The tool hovers over `robot.start` inside a tall hand's 3-D perimeter:
+/// no motion keeps the margin there, so the hand must move first.
 #[test]
 fn refusal_hand_covers_gripper() {
     let s = scene(
         SQUARE,
         "{name: hand-1, box: [300, 420, 40, 40], height: 0.08}",
     );
-    let u = refusal_of(&s, Stage::Grid);
+    let u = refusal_of(&s, Stage::Trajectory);
     assert_json(&u, "hand_covers_gripper");
 }
 

@@ -23,6 +23,8 @@
 //! - If the gripper starts over obstacle cells (it has just released into a
 //!   box that is an obstacle for the next sub-goal), that connected obstacle
 //!   region is cleared: the gripper is above it and must be able to leave.
+//!   If it starts over a hand's cells, which are never cleared, the learner
+//!   starts from the free cell nearest it ([`crate::discrete::hand_exit`]).
 
 use crate::place::{NoSpot, Release, Room, release_spot};
 use crate::scenario::{PixelBox, Scenario};
@@ -187,6 +189,9 @@ impl StateGrid {
         grid.paint_scene(scenario, req);
         grid.clear_escape(grid.start);
         grid.escape = grid.escape_from(req.gripper);
+        if let Some(exit) = crate::discrete::hand_exit::exit_cell(&grid, req.gripper) {
+            grid.start = exit;
+        }
         grid.release = release_spot(scenario, req.object, req.goal, room, |p| {
             grid.code(grid.cell_at(p)) == CellCode::Goal
         });

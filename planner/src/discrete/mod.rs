@@ -9,6 +9,7 @@ pub mod affordance;
 pub mod cql;
 pub mod export;
 pub mod grid;
+pub mod hand_exit;
 pub mod oracle;
 pub mod route_grid;
 pub mod task;

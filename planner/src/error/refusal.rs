@@ -24,7 +24,8 @@ pub enum Refusal {
     /// A hand's safety perimeter covers the object to move.
     #[error("a hand covers {object}: wait for the hand to move")]
     HandCoversTarget { object: String },
-    /// A hand's safety perimeter covers the gripper's cell.
+    /// The robot, where it stands, is inside a hand's safety perimeter (or
+    /// the hands cover every cell of the grid): no motion keeps the margin.
     #[error("a hand's perimeter covers the gripper: wait for the hand to move")]
     HandCoversGripper,
     /// Without the hands a route exists; with them none does.

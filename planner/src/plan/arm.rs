@@ -279,8 +279,16 @@ impl Replan {
                 Phase::Approach | Phase::Grasp | Phase::Lift | Phase::Release
             )
         });
+        // The robot is inside a hand's perimeter where it stands: no motion
+        // can keep that margin, the hand has to move first.
+        let in_hand_at_start = hit.collision.first_t <= 1e-9
+            && scene.hands.iter().any(|h| h.name == hit.collision.other);
+        let refusal = match in_hand_at_start {
+            true => Refusal::HandCoversGripper,
+            false => collides(arm, &hit.collision, place),
+        };
         Self {
-            refusal: collides(arm, &hit.collision, place),
+            refusal,
             replannable_cell: cell,
             at_grasp,
             lowered: false,
