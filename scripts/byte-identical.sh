@@ -11,7 +11,8 @@
 # `--format csv`; then `afford bench safety --scenarios 100 --json` and
 # `afford bench monitor --json`. Each command's exit code is an output too.
 # `bench monitor` reports two wall-clock medians (median_observe_us,
-# median_replan_ms); they are masked before hashing, every other byte counts.
+# median_replan_ms), `bench safety` its planning times (median_s, p99_s,
+# max_s); they are masked before hashing, every other byte counts.
 #
 # Prints one line per output: `same|DIFF  BASE_SHA256  NEW_SHA256  NAME`, and
 # exits 1 when any output differs, 2 on bad usage.
@@ -61,6 +62,8 @@ outputs() {
         run "$bin" "$out" bench-monitor.json bench monitor --json
         sed -E -i 's/"(median_observe_us|median_replan_ms)": [-0-9.eE+]+/"\1": MASKED/' \
             "$out/bench-monitor.json"
+        sed -E -i 's/"(median_s|p99_s|max_s)": [-0-9.eE+]+/"\1": MASKED/' \
+            "$out/bench-safety.json"
     fi
     # Standard error carries timings and absolute paths; it is not an output.
     rm -f "$out"/*.stderr

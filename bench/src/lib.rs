@@ -16,6 +16,7 @@ pub mod cql;
 pub mod generator;
 pub mod monitor;
 pub mod pipeline;
+pub mod planning_time;
 pub mod refusal;
 pub mod routes;
 pub mod safety;

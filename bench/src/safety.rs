@@ -11,10 +11,12 @@
 //! state, then where the previous sub-goal ended).
 
 use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
 
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
+use super::planning_time::{PlanningTimes, planning_times};
 use super::refusal::{REFUSAL_KINDS, error_refusals};
 use super::scenes;
 use afford_planner::error::PlanError;
@@ -120,6 +122,10 @@ pub struct SceneOutcome {
     pub refusals: Vec<(&'static str, String)>,
     pub findings: Vec<Finding>,
     pub structural: Structural,
+    /// Wall seconds per sub-goal (the planner's own clock).
+    pub subgoal_s: Vec<f64>,
+    /// Wall seconds of the whole `plan` call.
+    pub scene_s: f64,
 }
 
 /// Counts over a set of scenes.
@@ -194,6 +200,9 @@ pub struct SafetyReport {
     #[serde(flatten)]
     pub total: Tally,
     pub robots: BTreeMap<String, Tally>,
+    /// Wall-clock planning times per robot and in `"total"` (the only
+    /// figures that differ from run to run).
+    pub planning_time: BTreeMap<String, PlanningTimes>,
     /// The first message of each violation class and refusal kind, with its
     /// scene ("scene 17 (care_o_bot4), sub-goal 1: …"), for people; not in
     /// the JSON.
@@ -212,6 +221,11 @@ impl SafetyReport {
                 .map(|r| (r.to_string(), Tally::default()))
                 .collect(),
             examples: BTreeMap::new(),
+            planning_time: planning_times(
+                outcomes
+                    .iter()
+                    .map(|s| (s.robot, s.subgoal_s.as_slice(), s.scene_s)),
+            ),
         };
         for s in outcomes {
             report.total.add(s);
@@ -286,10 +300,27 @@ impl SafetyReport {
                 .trajectories_not_starting_at_previous_end
                 .to_string()
         });
+        out.push_str(&self.time_table());
         if !self.examples.is_empty() {
             out.push_str("\nfirst of each:\n");
             for (key, text) in &self.examples {
                 out.push_str(&format!("  {key}: {text}\n"));
+            }
+        }
+        out
+    }
+}
+
+impl SafetyReport {
+    /// Planning time per robot (wall clock, s): sub-goals and scenes.
+    fn time_table(&self) -> String {
+        let mut out = String::from("planning time, s (median / p99 / max)\n");
+        for (robot, t) in &self.planning_time {
+            for (what, s) in [("sub-goal", &t.subgoal), ("scene", &t.scene)] {
+                out.push_str(&format!(
+                    "  {robot:<12} {what:<9} {:>8.3} {:>8.3} {:>8.3}  ({} measured)\n",
+                    s.median_s, s.p99_s, s.max_s, s.count
+                ));
             }
         }
         out
@@ -340,14 +371,24 @@ pub fn run_scene(
         refusals: Vec::new(),
         findings: Vec::new(),
         structural: Structural::default(),
+        subgoal_s: Vec::new(),
+        scene_s: 0.0,
     };
-    let plan = match afford_planner::plan::plan(&scenario, &PlanOptions::default()) {
+    let started = Instant::now();
+    let planned = afford_planner::plan::plan(&scenario, &PlanOptions::default());
+    outcome.scene_s = started.elapsed().as_secs_f64();
+    let seconds = |times: &[Duration]| times.iter().map(Duration::as_secs_f64).collect();
+    let plan = match planned {
         Ok(plan) => plan,
         Err(e) => {
+            if let PlanError::Unsolvable { subgoal_times, .. } = &e {
+                outcome.subgoal_s = seconds(subgoal_times);
+            }
             outcome.refusals = error_refusals(&e);
             return outcome;
         }
     };
+    outcome.subgoal_s = seconds(&plan.timings.per_subgoal);
     outcome.outcome = match plan.unsolved.is_empty() {
         true => Outcome::Planned,
         false => Outcome::PartlyPlanned,
@@ -461,6 +502,8 @@ mod tests {
                 })
                 .collect(),
             structural: Structural::default(),
+            subgoal_s: vec![0.25, 0.5],
+            scene_s: 0.75,
         }
     }
 

@@ -112,6 +112,8 @@ pub enum PlanError {
     Unsolvable {
         reasons: Vec<String>,
         unsolved: Vec<UnsolvedSubgoal>,
+        /// Wall time spent on each sub-goal (as [`crate::plan::StageTimings::per_subgoal`]).
+        subgoal_times: Vec<std::time::Duration>,
     },
 }
 

@@ -76,6 +76,7 @@ impl Planner {
             return Err(PlanError::Unsolvable {
                 reasons: vec!["no sub-goals to plan".to_string()],
                 unsolved: Vec::new(),
+                subgoal_times: Vec::new(),
             });
         };
         let spec = &scenario.robot;
@@ -146,6 +147,7 @@ impl Planner {
             return Err(PlanError::Unsolvable {
                 reasons,
                 unsolved: plan.unsolved,
+                subgoal_times: plan.timings.per_subgoal,
             });
         }
         Ok(plan)

@@ -230,3 +230,27 @@ fn check_violations_carry_typed_data_beside_the_message() {
         .expect("the limit is broken");
     assert_eq!(position.data.joint.as_deref(), Some("joint_a4"));
 }
+
+/// The planner's clock gives one wall time per sub-goal, refused ones
+/// included, and they fit inside the stages' sum.
+#[test]
+fn planning_time_is_kept_for_every_subgoal() {
+    let s = scenario::parse(scenario::DEFAULT_SCENARIO, Format::Yaml, "default.yaml")
+        .expect("the default scenario is valid");
+    let planned = plan(&s, &PlanOptions::default()).expect("the default scenario plans");
+    let count = planned.subgoals.len() + planned.unsolved.len();
+    assert!(count > 1, "the default scenario has several sub-goals");
+    let t = &planned.timings;
+    assert_eq!(t.per_subgoal.len(), count);
+    assert!(
+        t.per_subgoal.iter().all(|d| !d.is_zero()),
+        "{:?}",
+        t.per_subgoal
+    );
+    let stages = t.grid + t.cql + t.lift + t.ik + t.collision + t.transit + t.timing;
+    let total: std::time::Duration = t.per_subgoal.iter().sum();
+    assert!(
+        total * 2 >= stages,
+        "sub-goals {total:?}, stages {stages:?}"
+    );
+}

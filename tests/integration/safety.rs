@@ -140,7 +140,16 @@ fn campaign_counts_add_up_name_every_class_and_repeat() {
         t.refused == 0 || refused_subgoals >= t.refused,
         "a refused scene without a refusal reason"
     );
-    let again = run_campaign(&config, |_| {}, structural_check).expect("robots load");
+    // Every sub-goal and scene has its planning time.
+    let times = &report.planning_time["total"];
+    assert_eq!(times.scene.count, t.scenarios);
+    assert!(times.subgoal.count >= t.trajectories);
+    assert!(
+        times.subgoal.median_s <= times.subgoal.p99_s && times.subgoal.p99_s <= times.subgoal.max_s
+    );
+    // The same seed gives the same report, wall-clock times aside.
+    let mut again = run_campaign(&config, |_| {}, structural_check).expect("robots load");
+    again.planning_time.clone_from(&report.planning_time);
     assert_eq!(report, again, "same seed, different report");
 }
 
@@ -165,6 +174,7 @@ fn bench_safety_json_has_the_documented_keys() {
         "violations",
         "refusals",
         "robots",
+        "planning_time",
     ] {
         assert!(v.get(key).is_some(), "key {key} missing: {v}");
     }

@@ -2,6 +2,8 @@
 //! after each, and going back to an earlier sub-goal when a later one
 //! cannot be planned from where it left the world.
 
+use std::time::{Duration, Instant};
+
 use super::types::{Planner, StageTimings, SubgoalPlan};
 use super::world::{Pass, Rewound, Snapshot, World, later_in_goal, request, subgoal_seed};
 use crate::error::{Refusal, UnsolvedSubgoal};
@@ -45,7 +47,10 @@ impl Planner {
                 park: park[k],
                 later: &later,
             };
-            let refused = match self.plan_subgoal(pass, timings) {
+            let started = Instant::now();
+            let planned = self.plan_subgoal(pass, timings);
+            add_subgoal_time(timings, k, goals.len(), started.elapsed());
+            let refused = match planned {
                 Ok(done) => {
                     world.advance(request, &done);
                     outcomes.push(Ok(done));
@@ -103,4 +108,12 @@ impl Planner {
         let arm = robot.arm(arm).ok()?;
         (!park[j] && !arm.park.is_empty() && !start::is_parked(arm, &world.joints)).then_some(j)
     }
+}
+
+/// Adds `spent` to sub-goal `k` of `count` in [`StageTimings::per_subgoal`].
+fn add_subgoal_time(timings: &mut StageTimings, k: usize, count: usize, spent: Duration) {
+    if timings.per_subgoal.len() < count {
+        timings.per_subgoal.resize(count, Duration::ZERO);
+    }
+    timings.per_subgoal[k] += spent;
 }

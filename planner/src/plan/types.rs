@@ -271,6 +271,10 @@ pub struct StageTimings {
     /// Transit planning (its edge checks included).
     pub transit: Duration,
     pub timing: Duration,
+    /// Wall time of each sub-goal, in the instruction's order: every
+    /// attempt at it (a re-plan after a rewind included), success or
+    /// refusal.
+    pub per_subgoal: Vec<Duration>,
 }
 
 /// Runs `f` and adds its wall time to `slot`.
