@@ -246,6 +246,20 @@ impl SafetyReport {
         report
     }
 
+    /// Planning time per robot (wall clock, s): sub-goals and scenes.
+    fn time_table(&self) -> String {
+        let mut out = String::from("planning time, s (median / p99 / max)\n");
+        for (robot, t) in &self.planning_time {
+            for (what, s) in [("sub-goal", &t.subgoal), ("scene", &t.scene)] {
+                out.push_str(&format!(
+                    "  {robot:<12} {what:<9} {:>8.3} {:>8.3} {:>8.3}  ({} measured)\n",
+                    s.median_s, s.p99_s, s.max_s, s.count
+                ));
+            }
+        }
+        out
+    }
+
     /// The report as a table for people: one column per robot and the total.
     pub fn table(&self) -> String {
         let columns: Vec<(&str, &Tally)> = self
@@ -305,22 +319,6 @@ impl SafetyReport {
             out.push_str("\nfirst of each:\n");
             for (key, text) in &self.examples {
                 out.push_str(&format!("  {key}: {text}\n"));
-            }
-        }
-        out
-    }
-}
-
-impl SafetyReport {
-    /// Planning time per robot (wall clock, s): sub-goals and scenes.
-    fn time_table(&self) -> String {
-        let mut out = String::from("planning time, s (median / p99 / max)\n");
-        for (robot, t) in &self.planning_time {
-            for (what, s) in [("sub-goal", &t.subgoal), ("scene", &t.scene)] {
-                out.push_str(&format!(
-                    "  {robot:<12} {what:<9} {:>8.3} {:>8.3} {:>8.3}  ({} measured)\n",
-                    s.median_s, s.p99_s, s.max_s, s.count
-                ));
             }
         }
         out

@@ -232,7 +232,8 @@ fn check_violations_carry_typed_data_beside_the_message() {
 }
 
 /// The planner's clock gives one wall time per sub-goal, refused ones
-/// included, and they fit inside the stages' sum.
+/// included, and their sum is at least half the stages' sum (the stages run
+/// inside the sub-goals; some are timed inside one another).
 #[test]
 fn planning_time_is_kept_for_every_subgoal() {
     let s = scenario::parse(scenario::DEFAULT_SCENARIO, Format::Yaml, "default.yaml")

@@ -1,11 +1,11 @@
-//! Leaving a hand's perimeter the gripper starts in (the README's rule for a
-//! tool that starts inside one: leave it along the shortest way out, never
-//! deeper, then plan). A hand's cells are never cleared, so a grid whose
-//! start cell is a hand cell starts the learner at the free cell nearest
-//! the gripper instead; the route ([`crate::motion::route`]) leaves from the
-//! tool itself, shrinking the perimeter it is in to the tool's depth, and
-//! the collision checks let a body inside a perimeter at the start move
-//! only outward until it is out.
+//! A gripper over a hand's grid cells (the hand's footprint grown by its
+//! margin, painted as a column although the 3-D perimeter has a top). A
+//! hand's cells are never cleared, so a grid whose start cell is a hand cell
+//! starts the learner at the free cell nearest the gripper instead; the
+//! route ([`crate::motion::route`]) leaves from the tool itself without
+//! going deeper into the perimeter it is in. The 3-D collision checks keep
+//! the full margin: a robot that is inside a hand's 3-D perimeter where it
+//! stands is refused (`hand_covers_gripper`).
 
 use crate::grid::{Cell, CellCode, StateGrid};
 

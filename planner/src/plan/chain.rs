@@ -24,6 +24,7 @@ impl Planner {
         goals: &[SubGoal],
         timings: &mut StageTimings,
     ) -> (Vec<SubgoalPlan>, Vec<UnsolvedSubgoal>) {
+        timings.per_subgoal = vec![Duration::ZERO; goals.len()];
         let mut park = vec![false; goals.len()];
         if let Some(last) = park.last_mut() {
             *last = true;
@@ -49,7 +50,7 @@ impl Planner {
             };
             let started = Instant::now();
             let planned = self.plan_subgoal(pass, timings);
-            add_subgoal_time(timings, k, goals.len(), started.elapsed());
+            timings.per_subgoal[k] += started.elapsed();
             let refused = match planned {
                 Ok(done) => {
                     world.advance(request, &done);
@@ -108,12 +109,4 @@ impl Planner {
         let arm = robot.arm(arm).ok()?;
         (!park[j] && !arm.park.is_empty() && !start::is_parked(arm, &world.joints)).then_some(j)
     }
-}
-
-/// Adds `spent` to sub-goal `k` of `count` in [`StageTimings::per_subgoal`].
-fn add_subgoal_time(timings: &mut StageTimings, k: usize, count: usize, spent: Duration) {
-    if timings.per_subgoal.len() < count {
-        timings.per_subgoal.resize(count, Duration::ZERO);
-    }
-    timings.per_subgoal[k] += spent;
 }
