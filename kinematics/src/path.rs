@@ -136,6 +136,23 @@ impl Arm {
         settings: &PathSettings,
         rng: &mut impl Rng,
     ) -> Result<JointPath, PathFailure> {
+        self.solve_path_screened(targets, start, settings, rng, &mut |_| true)
+    }
+
+    /// [`Arm::solve_path`] that prefers a branch every waypoint of which
+    /// passes `screen` (e.g. free of self-collision): a branch with a
+    /// waypoint the screen rejects is left for the next start attempt, and
+    /// only when no attempt passes is the first complete path returned (the
+    /// caller's own checks then name what is wrong with it). The screen
+    /// never makes a reachable path unreachable.
+    pub fn solve_path_screened(
+        &self,
+        targets: &[IkTarget],
+        start: Option<&[Real]>,
+        settings: &PathSettings,
+        rng: &mut impl Rng,
+        screen: &mut dyn FnMut(&[Real]) -> bool,
+    ) -> Result<JointPath, PathFailure> {
         let count = targets.len();
         let fail = |index: usize, reason: IkFailure| PathFailure {
             index,
@@ -152,6 +169,7 @@ impl Arm {
         let mut first_ik = settings.ik.clone();
         first_ik.restart_when_seeded = true;
         let mut furthest: Option<PathFailure> = None;
+        let mut unscreened: Option<JointPath> = None;
         for attempt in 0..settings.start_attempts {
             // Attempt 0: from the given start (or home); later: fresh branches.
             let seed = if attempt == 0 { start } else { None };
@@ -167,7 +185,10 @@ impl Arm {
                 Err(reason) => return Err(fail(0, reason)),
             };
             match self.follow(targets, q0, settings, rng) {
-                Ok(path) => return Ok(path),
+                Ok(path) if path.waypoints.iter().all(|q| screen(q)) => return Ok(path),
+                Ok(path) => {
+                    unscreened.get_or_insert(path);
+                }
                 Err((index, reason)) => {
                     if furthest.as_ref().is_none_or(|f| index > f.index) {
                         furthest = Some(fail(index, reason));
@@ -182,7 +203,10 @@ impl Arm {
                 }
             }
         }
-        Err(furthest.expect("at least one start attempt"))
+        match unscreened {
+            Some(path) => Ok(path),
+            None => Err(furthest.expect("at least one start attempt")),
+        }
     }
 
     fn follow(

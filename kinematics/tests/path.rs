@@ -211,3 +211,36 @@ fn arm_choice_reports_every_arms_failure() {
         .is_err()
     );
 }
+
+/// A screen that rejects the branch the unscreened solve takes (its elbow
+/// joint's sign) makes the path IK return another branch; a screen that
+/// rejects everything returns the unscreened path unchanged.
+#[test]
+fn screened_path_ik_leaves_a_rejected_branch_and_never_loses_a_reachable_path() {
+    let m = RobotModel::builtin("kuka_iiwa14").unwrap();
+    let arm = m.arm("arm").unwrap();
+    let z = IIWA_TABLE_Z + 0.10;
+    let targets: Vec<IkTarget> = line(Vec3::new(0.45, -0.1, z), Vec3::new(0.45, 0.1, z), 10)
+        .into_iter()
+        .map(|p| IkTarget::TopDown {
+            position: p,
+            yaw: Some(0.0),
+        })
+        .collect();
+    let settings = PathSettings::default();
+    let solve = |screen: &mut dyn FnMut(&[f64]) -> bool| {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        arm.solve_path_screened(&targets, Some(&arm.home), &settings, &mut rng, screen)
+            .unwrap()
+    };
+    let plain = solve(&mut |_| true);
+    let sign = plain.waypoints[0][3].signum();
+    let other = solve(&mut |q| q[3].signum() != sign);
+    assert!(
+        other.waypoints.iter().all(|q| q[3].signum() != sign),
+        "{:?}",
+        other.waypoints[0]
+    );
+    let rejected = solve(&mut |_| false);
+    assert_eq!(rejected, plain);
+}

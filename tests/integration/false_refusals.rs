@@ -8,6 +8,8 @@
 //!   lies in kept like the goal being entered.
 //! - A gripper over a low hand's grown footprint but above its 3-D
 //!   perimeter: the learner starts from the free cell nearest the gripper.
+//! - A Care-O-bot leaving park beside a tall tray: the cheaper arm folds
+//!   into the torso, the other needs the tool turned at the grasp.
 
 use afford::planner::grid::{CellCode, GridRequest, Obstacles, StateGrid};
 use afford::planner::scenario;
@@ -110,4 +112,27 @@ fn gripper_over_a_low_hands_footprint_is_not_refused() {
     let first = [0, 1].map(|k| subgoal["cells"][0][k].as_u64().unwrap());
     assert_ne!(first, under_gripper, "{subgoal}");
     assert!(subgoal["trajectory"].is_object(), "{subgoal}");
+}
+
+#[test]
+fn care_o_bot_leaving_park_beside_a_tall_tray_is_not_refused() {
+    let plan = planned_checked_and_run("cob4-park-exit", 0);
+    let subgoal = &plan["subgoals"][0];
+    assert_eq!(subgoal["object"], "orange-triangle-2", "{subgoal}");
+    assert!(subgoal["trajectory"].is_object(), "{subgoal}");
+}
+
+/// The arm-motion budget is what bounds a sub-goal's search: with room for
+/// one arm motion the same sub-goal is refused with that motion's hit.
+#[test]
+fn a_sub_goal_tries_no_more_arm_motions_than_its_budget() {
+    use afford::planner::{PlanOptions, Planner};
+    let s = scenario::load(&fixture("cases/cob4-park-exit.yaml")).unwrap();
+    let options = PlanOptions {
+        max_arm_motions: 1,
+        ..PlanOptions::default()
+    };
+    let refused = Planner::new(options).plan(&s).unwrap_err().to_string();
+    assert!(refused.contains("collides"), "{refused}");
+    assert!(Planner::new(PlanOptions::default()).plan(&s).is_ok());
 }

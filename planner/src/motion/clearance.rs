@@ -244,6 +244,57 @@ impl<'a> FreeMoves<'a> {
     }
 }
 
+/// The self-clearance screen of the path IK: is an arm configuration (the
+/// rest of the robot as in `rest`) clear of the robot's own bodies by
+/// [`SELF_CLEARANCE`]? It sees no scene: scene obstacles are the collision
+/// stage's and the grid's, while an IK branch that folds an arm into the
+/// body is the IK's to avoid ([`afford_kinematics::Arm::solve_path_screened`]).
+pub struct SelfClearance<'a> {
+    geometry: &'a RobotGeometry,
+    scene: Scene,
+    rest: Vec<f64>,
+    settings: afford_collision::CheckSettings,
+}
+
+/// Room the path IK keeps between the robot's own bodies at every waypoint,
+/// m: straight moves between waypoints a few centimetres apart then keep
+/// clear of the body too.
+pub const SELF_CLEARANCE: f64 = 0.01;
+
+impl<'a> SelfClearance<'a> {
+    /// `Err` when the collision crate rejects the empty scene.
+    pub fn new(geometry: &'a RobotGeometry, rest: &[f64]) -> Result<Self, String> {
+        let spec = afford_collision::SceneSpec {
+            table_z: 0.0,
+            table: None,
+            boxes: Vec::new(),
+        };
+        Ok(Self {
+            geometry,
+            scene: Scene::from_spec(&spec).map_err(|e| e.to_string())?,
+            rest: rest.to_vec(),
+            settings: afford_collision::CheckSettings {
+                tolerance: SELF_CLEARANCE,
+                ..Default::default()
+            },
+        })
+    }
+
+    /// Whether `arm` at `q` keeps [`SELF_CLEARANCE`] from every other body
+    /// of the robot (a configuration the check cannot take passes: the
+    /// collision stage reports it).
+    pub fn admits(&self, arm: &str, q: &[f64]) -> bool {
+        let options = PathOptions {
+            arm: Some(arm.to_string()),
+            settings: self.settings,
+            ..PathOptions::default()
+        };
+        self.geometry
+            .check_arm_path(&self.scene, arm, &self.rest, &[q.to_vec()], &options)
+            .map_or(true, |v| v.is_free())
+    }
+}
+
 /// The colliders of `arm`'s gripper that may touch the target before they
 /// close on it: the robot description's `gripper.fingers` rigid with the
 /// arm's tool frame, or every collider rigid with it when the description

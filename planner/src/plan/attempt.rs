@@ -6,13 +6,13 @@
 use super::arm::{ArmMotionOutcome, PlannedPath, Replan, carry_on, collides, drop_leading_close};
 use super::types::{GridInfo, PlanOptions, Planner, Stage, StageTimings, SubgoalPlan, timed};
 use super::world::{Pass, Refused, World, room};
-use crate::clearance::{ArmMotion, check_motion};
+use crate::clearance::{ArmMotion, SelfClearance, check_motion};
 use crate::cql::{ContextualQLearner, LearnedPlan};
 use crate::error::{HitPlace, Refusal};
 use crate::grid::{Cell, CellCode, GridRequest, StateGrid};
 use crate::instruction::SubGoal;
 use crate::lift::{LiftRequest, grasp_pose, lift};
-use crate::motion::{IK_STARTS, IkStart, solve_motions};
+use crate::motion::{IK_START, solve_motions};
 use crate::place::Room;
 use crate::route_grid::routable_task;
 use crate::scenario::Scenario;
@@ -30,10 +30,13 @@ impl Planner {
         let (world, request) = (pass.world, pass.request);
         let mut retry = Retry::default();
         loop {
-            let hit = match self.attempt(&pass, &retry, timings)? {
+            let hit = match self.attempt(&pass, &mut retry, timings)? {
                 Attempt::Planned(done) => return Ok(*done),
                 Attempt::Collides(hit) => hit,
             };
+            if retry.arm_motions >= self.options.max_arm_motions {
+                return Err(Refused::motion(hit.refusal));
+            }
             let cell = hit
                 .replannable_cell
                 .filter(|_| retry.blocked.len() < self.options.max_replans);
@@ -57,11 +60,12 @@ impl Planner {
     pub(super) fn attempt(
         &self,
         pass: &Pass,
-        retry: &Retry,
+        retry: &mut Retry,
         timings: &mut StageTimings,
     ) -> Result<Attempt, Refused> {
         let (world, goal, request, seed) = (pass.world, pass.goal, pass.request, pass.seed);
-        let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
+        let (options, scene) = (&self.options, &world.scene);
+        let blocked = &retry.blocked.clone();
         if let Some(gripper) = &world.gripper {
             grasp_pose(
                 scene,
@@ -131,41 +135,35 @@ impl Planner {
             done.waypoints = Some(motion);
             return Ok(Attempt::Planned(Box::new(done)));
         };
-        // The arms that reach, cheapest first: the first whose whole motion
-        // is free moves. When none is, the arms try again with their IK
-        // started from their home posture, then from random postures
-        // (other branches: an IK posture may fold into the body). A collision of
-        // the cheapest goes back to the grid when no arm is free; else the
+        // The arms that reach, cheapest first, their IK started where they
+        // are: the first whose whole motion is free moves ([`IK_START`]). A
+        // collision goes back to the grid when no arm is free; else the
         // transits not found are the refusal.
         let mut first_hit: Option<Replan> = None;
         let mut no_transit = Vec::new();
         let mut free = None;
-        for start in IK_STARTS {
-            let choices = timed(&mut timings.ik, || {
-                solve_motions(robot, &motion, &world.joints, &options.ik, seed, start)
-            });
-            let choices = match (choices, start) {
-                (Ok(c), _) => c,
-                (Err(e), IkStart::Current) => return Err(Refused::motion(e)),
-                (Err(_), _) => continue,
-            };
-            for choice in choices {
-                let arm = &robot.arms()[choice.arm_index];
-                let outcome =
-                    self.arm_motion(pass, robot, geometry, arm, &choice, &task, &motion, timings)?;
-                match outcome {
-                    ArmMotionOutcome::Free(path) => {
-                        free = Some((choice, arm, path));
-                        break;
-                    }
-                    ArmMotionOutcome::Collides(hit) => {
-                        first_hit.get_or_insert(*hit);
-                    }
-                    ArmMotionOutcome::NoTransit(failure) => no_transit.push(failure),
-                }
-            }
-            if free.is_some() {
+        let screen = SelfClearance::new(geometry, &world.joints)
+            .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?;
+        let choices = timed(&mut timings.ik, || {
+            let (joints, ik) = (&world.joints, &options.ik);
+            solve_motions(robot, &motion, joints, ik, seed, IK_START, Some(&screen))
+        })
+        .map_err(Refused::motion)?;
+        for choice in choices {
+            if retry.arm_motions >= options.max_arm_motions {
                 break;
+            }
+            retry.arm_motions += 1;
+            let arm = &robot.arms()[choice.arm_index];
+            let outcome =
+                self.arm_motion(pass, robot, geometry, arm, &choice, &task, &motion, timings)?;
+            match outcome {
+                ArmMotionOutcome::Free(path) => {
+                    free = Some((choice, arm, path));
+                    break;
+                }
+                ArmMotionOutcome::Collides(hit) => merge_hit(&mut first_hit, *hit),
+                ArmMotionOutcome::NoTransit(failure) => no_transit.push(failure),
             }
         }
         let Some((choice, arm, planned)) = free else {
@@ -234,6 +232,19 @@ impl Planner {
     }
 }
 
+/// Keeps the first hit of a pass as its refusal, and what any of its hits
+/// allows the next pass: a cell to block under the first hit over one, a
+/// turn of the tool when any arm hit where the hand closes or opens.
+fn merge_hit(first: &mut Option<Replan>, hit: Replan) {
+    match first {
+        None => *first = Some(hit),
+        Some(kept) => {
+            kept.replannable_cell = kept.replannable_cell.or(hit.replannable_cell);
+            kept.at_grasp |= hit.at_grasp;
+        }
+    }
+}
+
 /// What a sub-goal's next pass does differently after a collision.
 #[derive(Debug, Default)]
 pub(super) struct Retry {
@@ -245,6 +256,9 @@ pub(super) struct Retry {
     /// Carry at the full height (the tallest thing on the table), not the
     /// height the route needs.
     pub(super) full_height: bool,
+    /// Arm motions tried so far, every pass counted
+    /// ([`PlanOptions::max_arm_motions`]).
+    pub(super) arm_motions: usize,
 }
 
 /// The outcome of one pass through the stages.

@@ -50,6 +50,10 @@ pub struct PlanOptions {
     /// How often a sub-goal is re-learnt with the cells blocked where the
     /// arm collided, before giving up.
     pub max_replans: usize,
+    /// Most arm motions (an arm's IK path, its transits and their collision
+    /// check) a sub-goal may try over all its passes before its last
+    /// collision is the refusal: the bound on a refusal's time.
+    pub max_arm_motions: usize,
     /// Folder that a relative `robot.model` path starts from. The rule, the
     /// same in the library and the CLI: a scenario read from a file resolves
     /// it against the file's folder ([`PlanOptions::for_scenario_file`],
@@ -60,6 +64,9 @@ pub struct PlanOptions {
 
 /// Most re-plans a sub-goal may take ([`PlanOptions::max_replans`]).
 pub const MAX_REPLANS: usize = 64;
+
+/// Largest [`PlanOptions::max_arm_motions`].
+pub const MAX_ARM_MOTIONS: usize = 256;
 
 /// Largest clearance or step of [`LiftSettings`], m.
 pub(super) const MAX_LIFT_LENGTH_M: f64 = 1.0;
@@ -116,6 +123,15 @@ impl PlanOptions {
                 format!("must be at most {MAX_REPLANS}, got {}", self.max_replans),
             ));
         }
+        if !(1..=MAX_ARM_MOTIONS).contains(&self.max_arm_motions) {
+            issues.push(FieldIssue::new(
+                "max_arm_motions",
+                format!(
+                    "must be between 1 and {MAX_ARM_MOTIONS}, got {}",
+                    self.max_arm_motions
+                ),
+            ));
+        }
         match issues.is_empty() {
             true => Ok(()),
             false => Err(PlanError::Options { issues }),
@@ -133,6 +149,7 @@ impl Default for PlanOptions {
             timing: TimingSettings::default(),
             transit: TransitSettings::default(),
             max_replans: 5,
+            max_arm_motions: 20,
             base_dir: PathBuf::from("."),
         }
     }
