@@ -1,119 +1,84 @@
 //! The feasibility probe: whether a sub-goal the planner refused has free
-//! poses, found with this crate's own inverse kinematics (k's Jacobian
-//! solver on k's chain from the URDF) and collision geometry (the parry
-//! scene, bodies and margins of the dense check, [`crate::dense`]), sharing
-//! no code path with the planner's kinematics, IK or collision checks.
+//! poses. It owns the rule below and its search: damped least-squares IK
+//! on k's chain and Jacobian (from the URDF, as [`crate::chain`]) and the
+//! dense check's collision measurement (parry, this crate's scene, bodies
+//! and margins: [`crate::dense`], [`crate::scene`]), sharing no code path
+//! with the planner's kinematics, IK or collision checks.
 //!
-//! Rule. Moving object `o` into goal `g` in a scene (the scene as the
-//! caller gives it) *has free poses* when for some arm and some grasp yaw
-//! there are configurations within the joint limits, each free of every
-//! collision with every margin, with the tool pointing straight down
-//! (approach axis along −z, tool x along the yaw) at
+//! Rule. Moving object `o` into goal `g` in a scene (the one the caller
+//! gives) *has free poses* when for some arm and some grasp yaw there are
+//! configurations within the joint limits, each free of every collision
+//! with every margin, with the tool pointing straight down (approach axis
+//! along −z, tool x along the yaw) at
 //!
-//! - (a) the grasp: over the centre of `o`'s box, the tool centre point at
-//!   the grasp height below;
+//! - (a) the grasp: the tool centre point over the centre of `o`'s box, at
+//!   the grasp height above its bottom;
 //! - (b) [`ProbeSettings::above`] (0.15 m) straight above the grasp;
-//! - (c) the release: over the centre of `g`'s box, `o` held as grasped,
-//!   its bottom [`ProbeSettings::release_clearance`] above the highest of
-//!   the goal's wall top and the tops (plus their margins) of the pieces
-//!   whose centres lie in the goal's box.
+//! - (c) a release: `o` held as grasped over a spot of `g` where, dropped
+//!   onto the floor, it lies inside the inner walls without overlapping
+//!   another piece (the check's placement rule), its bottom
+//!   [`ProbeSettings::release_clearance`] above the highest of the goal's
+//!   wall top and the tops (plus their margins) of the pieces whose
+//!   centres lie in the goal's box. Spots: a 7 × 7 lattice over where the
+//!   footprint fits, the [`MAX_SPOTS`] placeable ones nearest the centre.
 //!
 //! Grasp yaws: the yaw of `o`'s longer side (the fingers, closing along the
-//! tool's y axis, span the shorter) and that yaw + 90°, leaving out a yaw
-//! whose width across the fingers exceeds the gripper's `max_opening`.
-//! Grasp height above `o`'s bottom, the planner's documented rule
-//! re-implemented ([`ProbeSettings`] holds the same defaults): half `o`'s
-//! height, but no lower than `min_grasp_height`, nor the fingertips
-//! `tip_clearance` off the table, nor the palm (every tool collider outside
-//! the grasp region) `obstacle_margin + palm_clearance` above `o`'s top;
-//! when the fingertips then reach neither `o`'s middle nor `min_grip_depth`
-//! below its top there is no grasp, and no free pose.
+//! tool's y axis, span the shorter side), that yaw + 90°, and each turned
+//! half a turn (the same closing axis, the gripper the other way round: the
+//! Care-O-bot's fixed jaw on the other side), leaving out a yaw whose width
+//! across the fingers exceeds the gripper's `max_opening`. Grasp height
+//! above `o`'s bottom, the planner's documented rule re-implemented
+//! ([`ProbeSettings`] holds the same defaults): half `o`'s height, but no
+//! lower than `min_grasp_height`, nor the fingertips `tip_clearance` off its
+//! support, nor the palm (every tool collider outside the grasp region)
+//! less than `obstacle_margin + palm_clearance` above `o`'s top; when the
+//! fingertips then reach neither `o`'s middle nor `min_grip_depth` below
+//! its top there is no grasp, and no free pose.
 //!
 //! Collisions, as the check's phases have them: at (a) and (b) the scene
 //! of the sub-goal ([`scene::obstacles`]) and the target, near which only
 //! the fingers may come; at (c) the scene and the held object riding on the
-//! tool. Self-collision is checked on every pair but the allowed ones. The
-//! other arms are at their park postures, every other joint at home.
+//! tool. Self-collision on every pair but the allowed ones. The other arms
+//! are at their park postures, every joint of no arm at home.
 //!
 //! Bounded and deterministic: at each pose at most
 //! [`ProbeSettings::restarts`] IK attempts of at most
-//! [`ProbeSettings::iterations`] steps, the first from the previous pose's
-//! solution (the arm's home for the grasp), the others from seeded random
-//! configurations within the limits.
+//! [`ProbeSettings::iterations`] steps, first from the previous pose's
+//! solution (the arm's home for the grasp; once per release spot), then
+//! from seeded random configurations within the limits.
 
 use std::f64::consts::PI;
 
 use afford_kinematics::RobotModel;
 use afford_planner::Scenario;
-use k::InverseKinematicsSolver;
+use nalgebra::{DMatrix, DVector};
 
 use crate::bodies::{Body, body};
 use crate::chain::Iso;
 use crate::check::Robot;
 use crate::dense::{Findings, Phase};
-use crate::placement::width_across_fingers;
-use crate::scene::{self, Footprint, Obstacle, Piece, Role};
+use crate::placement::{self, width_across_fingers};
+use crate::scene::{self, GOAL_WALL, Obstacle, Piece, Role};
 
 mod poses;
+mod settings;
 #[cfg(test)]
 mod tests;
 
-use poses::{SplitMix, grasp_yaws, gripper_reach, mix, release_floor, top_down};
+pub use settings::{MAX_COUNT, MAX_LENGTH, ProbeError, ProbeSettings};
 
-/// How the probe searches, and the planner's documented grasp and release
-/// heights it re-implements (metres).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProbeSettings {
-    /// IK attempts per pose.
-    pub restarts: usize,
-    /// Solver steps per attempt.
-    pub iterations: usize,
-    /// Height of pose (b) above the grasp.
-    pub above: f64,
-    /// Lowest tool centre point above the object's bottom at the grasp.
-    pub min_grasp_height: f64,
-    /// Lowest gap between the fingertips and the object's support.
-    pub tip_clearance: f64,
-    /// Gap between the palm and the target's `obstacle_margin`.
-    pub palm_clearance: f64,
-    /// How far below the object's top the fingertips must reach when they
-    /// cannot reach its middle.
-    pub min_grip_depth: f64,
-    /// Gap between the held object's bottom and the release floor.
-    pub release_clearance: f64,
-    /// Seed of the random restarts.
-    pub seed: u64,
-}
+use poses::{SplitMix, grasp_yaws, gripper_reach, mix, release_floor, release_spots, top_down};
 
-impl Default for ProbeSettings {
-    fn default() -> Self {
-        Self {
-            restarts: 24,
-            iterations: 60,
-            above: 0.15,
-            min_grasp_height: 0.02,
-            tip_clearance: 0.005,
-            palm_clearance: 0.003,
-            min_grip_depth: 0.01,
-            release_clearance: 0.01,
-            seed: 1,
-        }
-    }
-}
+/// A pose to reach: the tool poses to choose from, the obstacles and the
+/// bodies checked there.
+type Pose<'p> = (&'p [Iso], &'p [Obstacle], &'p [Body]);
 
-/// Why the probe cannot run.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ProbeError {
-    /// The robot's chain as k reads it does not fit its description.
-    #[error("robot {robot}: {message}")]
-    Robot { robot: String, message: String },
-    #[error("the scenario has no object '{0}'")]
-    UnknownObject(String),
-    #[error("the scenario has no goal '{0}'")]
-    UnknownGoal(String),
-    #[error("probe settings: {0}")]
-    Settings(String),
-}
+/// Damping of the least-squares IK step (m or rad).
+pub const DAMPING: f64 = 0.1;
+/// Largest change of any joint in one IK step, rad or m.
+pub const MAX_STEP: f64 = 0.5;
+/// Most release spots tried in a goal (those nearest its centre).
+pub const MAX_SPOTS: usize = 9;
 
 /// Free poses of one arm and yaw: the whole robot's configuration at the
 /// grasp, above it and at the release.
@@ -133,8 +98,9 @@ struct ArmIk {
     chain: k::SerialChain<f64>,
     /// Robot joint index of each of the chain's movable joints.
     joints: Vec<usize>,
-    /// The chain's movable joints outside the arm: held where they are.
-    constraints: k::Constraints,
+    /// Whether each of the chain's movable joints is the arm's (the others
+    /// stay where they are).
+    free: Vec<bool>,
     /// Robot joint indices of the arm.
     arm_joints: Vec<usize>,
     tool: usize,
@@ -160,11 +126,7 @@ impl<'a> Probe<'a> {
             robot: model.name().to_string(),
             message,
         };
-        if settings.restarts == 0 || settings.iterations == 0 {
-            return Err(ProbeError::Settings(
-                "restarts and iterations must be at least 1".into(),
-            ));
-        }
+        settings.validate()?;
         let robot = Robot::new(model).map_err(fail)?;
         let urdf = urdf_rs_k::read_from_string(model.urdf())
             .map_err(|e| fail(format!("the URDF cannot be read by urdf-rs 0.9: {e}")))?;
@@ -187,18 +149,15 @@ impl<'a> Probe<'a> {
                 let name = &model.joints()[*j].name;
                 return Err(fail(format!("joint '{name}' is not on the tool's k chain")));
             }
-            let constraints = k::Constraints {
-                ignored_joint_names: (names.iter().zip(&joints))
-                    .filter(|(_, j)| !arm.joint_indices.contains(j))
-                    .map(|(n, _)| n.clone())
-                    .collect(),
-                ..k::Constraints::default()
-            };
+            let free = joints
+                .iter()
+                .map(|j| arm.joint_indices.contains(j))
+                .collect();
             arms.push(ArmIk {
                 name: arm.name.clone(),
                 chain,
                 joints,
-                constraints,
+                free,
                 arm_joints: arm.joint_indices.clone(),
                 tool: robot.tool_link(arm),
             });
@@ -241,8 +200,12 @@ impl<'a> Probe<'a> {
         let scene = scene::obstacles(s, &pieces, target, g);
         let near = Obstacle::piece(piece, s.safety.obstacle_margin, Role::Target);
         let before: Vec<Obstacle> = scene.iter().cloned().chain([near]).collect();
-        let spot = Footprint::of(s, s.goals[g].bbox).centre;
         let release_z = release_floor(s, &pieces, target, g) + self.settings.release_clearance;
+        let spots = release_spots(s, g, piece);
+        let others: Vec<&Piece> = (pieces.iter().enumerate())
+            .filter(|&(i, _)| i != target)
+            .map(|(_, p)| p)
+            .collect();
         let opening = self.robot.model.gripper().max_opening;
         for (y, yaw) in grasp_yaws(s, target).into_iter().enumerate() {
             let grasp = top_down([centre.x, centre.y, bottom + height], yaw);
@@ -251,14 +214,30 @@ impl<'a> Probe<'a> {
             }
             let lifted = bottom + height + self.settings.above;
             let above = top_down([centre.x, centre.y, lifted], yaw);
-            let release = top_down([spot[0], spot[1], release_z + height], yaw);
+            let rel = grasp.inverse() * piece.pose;
+            let release: Vec<Iso> = (spots.iter())
+                .map(|&[x, y]| top_down([x, y, release_z + height], yaw))
+                .filter(|tool| {
+                    let floor = s.camera.table_z + GOAL_WALL;
+                    let pose = placement::dropped(&(tool * rel), &piece.half, floor);
+                    let dropped = Piece {
+                        pose,
+                        ..piece.clone()
+                    };
+                    placement::check(s, g, &dropped, &others).is_empty()
+                })
+                .take(MAX_SPOTS)
+                .collect();
+            if release.is_empty() {
+                continue;
+            }
             for (a, arm) in self.arms.iter().enumerate() {
-                let held = self.held(arm, piece, &grasp);
+                let held = self.held(arm, piece, rel);
                 let holding: Vec<Body> = self.robot.bodies.iter().cloned().chain([held]).collect();
                 let bodies = &self.robot.bodies;
-                let poses = [
-                    (&grasp, &before, bodies),
-                    (&above, &before, bodies),
+                let poses: [Pose; 3] = [
+                    (&[grasp], &before, bodies),
+                    (&[above], &before, bodies),
                     (&release, &scene, &holding),
                 ];
                 let seed = mix(self.settings.seed, a as u64, y as u64);
@@ -276,24 +255,24 @@ impl<'a> Probe<'a> {
         Ok(None)
     }
 
-    /// Free configurations of `arm` at each pose (tool pose, obstacles,
-    /// bodies) in turn, each searched from the previous one's solution.
-    fn arm_poses(
-        &self,
-        arm: &ArmIk,
-        poses: [(&Iso, &Vec<Obstacle>, &Vec<Body>); 3],
-        seed: u64,
-    ) -> Option<[Vec<f64>; 3]> {
+    /// Free configurations of `arm` at each pose in turn (tool poses to
+    /// choose from, obstacles, bodies). Attempt `i` aims at tool pose
+    /// `i mod n`, from the previous pose's solution for each of the `n`
+    /// tool poses once, then from random configurations.
+    fn arm_poses(&self, arm: &ArmIk, poses: [Pose; 3], seed: u64) -> Option<[Vec<f64>; 3]> {
         let mut from = self.rest.clone();
+        for &j in &arm.arm_joints {
+            from[j] = self.robot.model.home()[j];
+        }
         let mut found: [Vec<f64>; 3] = Default::default();
-        for (p, (tool, obstacles, bodies)) in poses.into_iter().enumerate() {
+        for (p, (tools, obstacles, bodies)) in poses.into_iter().enumerate() {
             let mut random = SplitMix(mix(seed, p as u64, 0));
             let q = (0..self.settings.restarts).find_map(|attempt| {
-                let start = match attempt {
-                    0 => from.clone(),
-                    _ => self.random_configuration(arm, &mut random),
+                let start = match attempt < tools.len() {
+                    true => from.clone(),
+                    false => self.random_configuration(arm, &mut random),
                 };
-                let q = self.solve(arm, tool, &start)?;
+                let q = self.solve(arm, &tools[attempt % tools.len()], &start)?;
                 self.is_free(&q, obstacles, bodies).then_some(q)
             })?;
             from = q.clone();
@@ -316,18 +295,11 @@ impl<'a> Probe<'a> {
         (tips <= h / 2.0 || h - tips >= c.min_grip_depth - 1e-9).then_some(grasp)
     }
 
-    /// The held piece as a body on `arm`'s tool, grasped at `grasp`.
-    fn held(&self, arm: &ArmIk, piece: &Piece, grasp: &Iso) -> Body {
+    /// The held piece as a body on `arm`'s tool, at `rel` in the tool frame.
+    fn held(&self, arm: &ArmIk, piece: &Piece, rel: Iso) -> Body {
         let r = &self.robot;
         let name = format!("held {}", piece.name);
-        body(
-            r.model,
-            &r.kin,
-            name,
-            arm.tool,
-            piece.shape(),
-            grasp.inverse() * piece.pose,
-        )
+        body(r.model, &r.kin, name, arm.tool, piece.shape(), rel)
     }
 
     /// A configuration of the rest posture with `arm`'s joints drawn
@@ -342,28 +314,53 @@ impl<'a> Probe<'a> {
         q
     }
 
-    /// k's Jacobian IK from `start` (a whole-robot configuration) to the
-    /// tool pose `tool`; the solution when it is finite, within the
-    /// description's joint limits and this crate's FK puts the tool within
-    /// 1 mm and 0.01 rad of `tool`.
+    /// Damped least squares on k's chain and Jacobian from `start` (a
+    /// whole-robot configuration) to the tool pose `tool`: the solution
+    /// when it is within the description's joint limits and this crate's
+    /// FK puts the tool within 1 mm and 0.01 rad of `tool`.
     fn solve(&self, arm: &ArmIk, tool: &Iso, start: &[f64]) -> Option<Vec<f64>> {
-        let from: Vec<f64> = arm.joints.iter().map(|&j| start[j]).collect();
-        arm.chain.set_joint_positions_clamped(&from);
-        let solver = k::JacobianIkSolver::new(1e-4, 1e-3, 0.5, self.settings.iterations);
-        solver
-            .solve_with_constraints(&arm.chain, tool, &arm.constraints)
-            .ok()?;
+        let joints = self.robot.model.joints();
+        let chain = &arm.chain;
+        let mut x: Vec<f64> = arm.joints.iter().map(|&j| start[j]).collect();
+        let mut converged = false;
+        for _ in 0..self.settings.iterations {
+            chain.set_joint_positions_unchecked(&x);
+            let now = chain.end_transform();
+            let dp = tool.translation.vector - now.translation.vector;
+            let dr = (tool.rotation * now.rotation.inverse()).scaled_axis();
+            if dp.norm() < 1e-4 && dr.norm() < 1e-3 {
+                converged = true;
+                break;
+            }
+            let mut jacobian = k::jacobian(chain);
+            for (c, free) in arm.free.iter().enumerate() {
+                if !free {
+                    jacobian.column_mut(c).fill(0.0);
+                }
+            }
+            let error = DVector::from_row_slice(&[dp.x, dp.y, dp.z, dr.x, dr.y, dr.z]);
+            let damped = &jacobian * jacobian.transpose()
+                + DMatrix::<f64>::identity(6, 6) * (DAMPING * DAMPING);
+            let mut dx = jacobian.transpose() * damped.cholesky()?.solve(&error);
+            let largest = dx.amax();
+            if !largest.is_finite() {
+                return None;
+            }
+            if largest > MAX_STEP {
+                dx *= MAX_STEP / largest;
+            }
+            for (c, &j) in arm.joints.iter().enumerate() {
+                x[c] = (x[c] + dx[c]).clamp(joints[j].lower, joints[j].upper);
+            }
+        }
         let mut q = start.to_vec();
-        for (&j, v) in arm.joints.iter().zip(arm.chain.joint_positions()) {
+        for (&j, v) in arm.joints.iter().zip(x) {
             q[j] = v;
         }
-        let joints = self.robot.model.joints();
-        let within = (arm.arm_joints.iter())
-            .all(|&j| q[j].is_finite() && q[j] >= joints[j].lower && q[j] <= joints[j].upper);
         let reached = self.robot.kin.link_poses(&q)[arm.tool];
         let off = (reached.translation.vector - tool.translation.vector).norm();
         let turned = reached.rotation.angle_to(&tool.rotation);
-        (within && off < 1e-3 && turned < 1e-2).then_some(q)
+        (converged && off < 1e-3 && turned < 1e-2).then_some(q)
     }
 
     /// Whether configuration `q` keeps every margin: the check's dense

@@ -10,7 +10,7 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use super::ArmIk;
 use crate::chain::{Iso, to_parry};
 use crate::check::Robot;
-use crate::scene::{Footprint, Piece};
+use crate::scene::{Footprint, GOAL_WALL, Piece};
 
 /// The grasp region's reach below the tool centre point and the lowest
 /// point of the other colliders rigid with the tool above it (negative:
@@ -67,15 +67,42 @@ pub(super) fn release_floor(s: &Scenario, pieces: &[Piece], target: usize, goal:
         .fold(wall, f64::max)
 }
 
-/// The yaw of the object's longer side (its box's u side on a tie) and
-/// that yaw + 90°.
-pub(super) fn grasp_yaws(s: &Scenario, object: usize) -> [f64; 2] {
+/// The yaw of the object's longer side (its box's u side on a tie), that
+/// yaw + 90°, and each turned half a turn (the same closing axis with the
+/// gripper the other way round).
+pub(super) fn grasp_yaws(s: &Scenario, object: usize) -> [f64; 4] {
     let f = Footprint::of(s, s.objects[object].bbox);
     let longer = match f.size[0] >= f.size[1] {
         true => f.yaw,
         false => f.yaw + FRAC_PI_2,
     };
-    [longer, longer + FRAC_PI_2]
+    [0.0, PI, FRAC_PI_2, -FRAC_PI_2].map(|turn| longer + turn)
+}
+
+/// Candidate release spots (base frame x, y) for `piece` (in its
+/// orientation on the table) in goal `goal`: a 7 × 7 lattice over where
+/// its footprint lies inside the inner walls (the box less its walls, 0.1
+/// mm to spare), corners included, nearest the centre first (lattice order
+/// on a tie); none when it does not fit.
+pub(super) fn release_spots(s: &Scenario, goal: usize, piece: &Piece) -> Vec<[f64; 2]> {
+    let f = Footprint::of(s, s.goals[goal].bbox);
+    let turn = piece.pose.rotation.euler_angles().2 - f.yaw;
+    let (c, sn) = (turn.cos().abs(), turn.sin().abs());
+    let [hx, hy] = [piece.half[0], piece.half[1]];
+    let half = [c * hx + sn * hy, sn * hx + c * hy];
+    let travel = [0, 1].map(|k| 0.5 * f.size[k] - GOAL_WALL - half[k] - 1e-4);
+    if travel.iter().any(|&t| t < 0.0) {
+        return Vec::new();
+    }
+    let steps = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0].map(|k| k / 3.0);
+    let mut local: Vec<[f64; 2]> = (steps.iter())
+        .flat_map(|&a| steps.iter().map(move |&b| [a * travel[0], b * travel[1]]))
+        .collect();
+    local.sort_by(|a, b| a[0].hypot(a[1]).total_cmp(&b[0].hypot(b[1])));
+    let (c, sn) = (f.yaw.cos(), f.yaw.sin());
+    (local.into_iter())
+        .map(|[x, y]| [f.centre[0] + c * x - sn * y, f.centre[1] + sn * x + c * y])
+        .collect()
 }
 
 /// The tool pointing straight down (its +z along −z) at `p`, its x axis

@@ -73,6 +73,21 @@ fn a_piece_wider_than_the_opening_both_ways_has_no_free_poses() {
 }
 
 #[test]
+fn a_piece_longer_than_the_goal_has_no_release_and_no_free_poses() {
+    let (mut s, robot) = (default_scenario().unwrap(), iiwa());
+    // 200 x 40 px = 0.125 x 0.025 m, alone on the table; the left box is
+    // 0.075 m a side.
+    s.objects.truncate(1);
+    s.objects[0].bbox = [100.0, 80.0, 200.0, 40.0].into();
+    let probe = Probe::new(&robot, ProbeSettings::default()).unwrap();
+    let name = s.objects[0].name.clone();
+    assert_eq!(probe.free_poses(&s, &name, "left box").unwrap(), None);
+    // 0.15 x 0.10 m: it fits.
+    s.goals[0].bbox = [20.0, 260.0, 240.0, 160.0].into();
+    assert!(probe.free_poses(&s, &name, "left box").unwrap().is_some());
+}
+
+#[test]
 fn unknown_names_are_typed_errors() {
     let (s, robot) = (default_scenario().unwrap(), iiwa());
     let probe = Probe::new(&robot, ProbeSettings::default()).unwrap();
@@ -91,6 +106,15 @@ fn unknown_names_are_typed_errors() {
         Probe::new(&robot, none),
         Err(ProbeError::Settings(_))
     ));
+    let nan = ProbeSettings {
+        above: f64::NAN,
+        ..ProbeSettings::default()
+    };
+    let e = Probe::new(&robot, nan).err().map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("probe settings: above must be between 0 and 1 m, got NaN")
+    );
 }
 
 /// The re-implemented grasp rule gives the planner's grasp height (the
