@@ -291,12 +291,12 @@ impl SafetyReport {
         for kind in self.total.refusals.keys() {
             line(format!("  {kind}"), &|t| count(&t.refusals, kind));
         }
-        line("  with free poses (probe), of them".into(), &|_| {
-            String::new()
-        });
-        for (kind, _) in
-            (self.total.refusals_with_free_poses.iter()).filter(|(_, c)| c.refusals > 0)
-        {
+        line(
+            "  of them with free poses (probe) / refused".into(),
+            &|_| String::new(),
+        );
+        let probed = self.total.refusals_with_free_poses.iter();
+        for (kind, _) in probed.filter(|(_, c)| c.probed > 0) {
             line(format!("    {kind}"), &|t| {
                 let counts = t.refusals_with_free_poses.get(kind);
                 counts.copied().unwrap_or_default().cell()
