@@ -2,8 +2,8 @@
 //! series ([`super::scenes`], both built-in robots) with the default
 //! options, counts fully planned, partly planned and refused scenes and the
 //! refusals by kind ([`super::refusal`]), and re-checks every emitted plan
-//! with a checker passed in as a function (the planner crate does not depend
-//! on the checker crate). Counts are per robot and in total.
+//! with a checker passed in as a function (the facade passes afford-check's;
+//! tests pass their own). Counts are per robot and in total.
 //!
 //! Next to the checker's classes the runner keeps two structural counts that
 //! need no checker ([`super::structural`]), and gives every refused
