@@ -8,11 +8,13 @@
 //! the transit campaign (Care-O-bot sub-goals alone against chained) and
 //! the planned routes against the shortest any-angle paths.
 //!
-//! Built over the planner's public API only (`afford-planner`); the
-//! planner does not depend on this crate.
+//! Built over the planner's public API (`afford-planner`), with the
+//! independent check's feasibility probe (`afford-check`) for the safety
+//! campaign's refusals; neither depends on this crate.
 
 pub mod adversary;
 pub mod cql;
+pub mod free_poses;
 pub mod generator;
 pub mod monitor;
 pub mod pipeline;
@@ -21,6 +23,7 @@ pub mod refusal;
 pub mod routes;
 pub mod safety;
 pub mod scenes;
+pub mod structural;
 pub mod timing;
 pub mod transits;
 pub mod visibility;

@@ -2,13 +2,13 @@
 //! series ([`super::scenes`], both built-in robots) with the default
 //! options, counts fully planned, partly planned and refused scenes and the
 //! refusals by kind ([`super::refusal`]), and re-checks every emitted plan
-//! with a checker passed in as a function (the planner crate does not depend
-//! on the checker crate). Counts are per robot and in total.
+//! with a checker passed in as a function (the facade passes afford-check's;
+//! tests pass their own). Counts are per robot and in total.
 //!
 //! Next to the checker's classes the runner keeps two structural counts that
-//! need no checker: samples outside the model's joint position limits, and
-//! trajectories that do not start where the robot was (the plan's start
-//! state, then where the previous sub-goal ended).
+//! need no checker ([`super::structural`]), and gives every refused
+//! sub-goal to the independent feasibility probe ([`super::free_poses`]):
+//! per refusal kind, how many refusals had free poses.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -16,9 +16,11 @@ use std::time::{Duration, Instant};
 use afford_kinematics::RobotModel;
 use serde::Serialize;
 
+use super::free_poses::{FreePoseCount, FreePoseCounts, probe_refusals};
 use super::planning_time::{PlanningTimes, planning_times};
 use super::refusal::{REFUSAL_KINDS, error_refusals};
 use super::scenes;
+pub use super::structural::{CONTINUITY_TOLERANCE, POSITION_TOLERANCE, Structural, structural};
 use afford_planner::error::PlanError;
 use afford_planner::plan::{Plan, PlanOptions};
 use afford_planner::scenario::Scenario;
@@ -43,12 +45,6 @@ pub const VIOLATION_CLASSES: [&str; 16] = [
     "gripper_opening",
     "format",
 ];
-
-/// Joint positions further than this beyond a limit count as outside, rad or m.
-pub const POSITION_TOLERANCE: f64 = 1e-9;
-/// A first sample further than this from where the robot was counts as a
-/// jump, rad or m.
-pub const CONTINUITY_TOLERANCE: f64 = 1e-6;
 
 /// Campaign size and seed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,29 +83,6 @@ pub enum Outcome {
     Refused,
 }
 
-/// Counts the runner takes from the trajectories themselves, no checker needed.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Structural {
-    /// Samples with a joint beyond its position limit.
-    pub samples_outside_position_limits: usize,
-    /// Trajectories with at least one such sample.
-    pub trajectories_outside_position_limits: usize,
-    /// The largest excess over a position limit, rad or m.
-    pub max_position_excess: f64,
-    /// Trajectories whose first sample is not where the robot was.
-    pub trajectories_not_starting_at_previous_end: usize,
-}
-
-impl Structural {
-    fn add(&mut self, other: &Self) {
-        self.samples_outside_position_limits += other.samples_outside_position_limits;
-        self.trajectories_outside_position_limits += other.trajectories_outside_position_limits;
-        self.max_position_excess = self.max_position_excess.max(other.max_position_excess);
-        self.trajectories_not_starting_at_previous_end +=
-            other.trajectories_not_starting_at_previous_end;
-    }
-}
-
 /// The result of one scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneOutcome {
@@ -120,6 +93,11 @@ pub struct SceneOutcome {
     pub trajectories: usize,
     /// One entry per refused sub-goal: (kind, reason).
     pub refusals: Vec<(&'static str, String)>,
+    /// The probe's verdict per entry of `refusals`: free poses or not;
+    /// `None` when not probed.
+    pub free_poses: Vec<Option<bool>>,
+    /// Why the probe could not run, when it could not.
+    pub probe_error: Option<String>,
     pub findings: Vec<Finding>,
     pub structural: Structural,
     /// Wall seconds per sub-goal (the planner's own clock).
@@ -142,6 +120,8 @@ pub struct Tally {
     pub violations: BTreeMap<String, usize>,
     /// Refused sub-goals per kind.
     pub refusals: BTreeMap<String, usize>,
+    /// Per kind, the refusals and those the probe found free poses for.
+    pub refusals_with_free_poses: FreePoseCounts,
     pub structural: Structural,
 }
 
@@ -156,6 +136,9 @@ impl Default for Tally {
             trajectories: 0,
             violations: zeros(&VIOLATION_CLASSES),
             refusals: zeros(&REFUSAL_KINDS),
+            refusals_with_free_poses: (REFUSAL_KINDS.iter())
+                .map(|k| (k.to_string(), FreePoseCount::default()))
+                .collect(),
             structural: Structural::default(),
         }
     }
@@ -180,8 +163,11 @@ impl Tally {
         for (class, _) in seen {
             *self.violations.entry(class.to_string()).or_default() += 1;
         }
-        for (kind, _) in &s.refusals {
+        for (k, (kind, _)) in s.refusals.iter().enumerate() {
             *self.refusals.entry(kind.to_string()).or_default() += 1;
+            let free = s.free_poses.get(k).copied().flatten();
+            let counts = self.refusals_with_free_poses.entry(kind.to_string());
+            counts.or_default().add(free);
         }
         self.structural.add(&s.structural);
     }
@@ -238,9 +224,17 @@ impl SafetyReport {
                 let text = format!("{}: {}", at(f.subgoal), f.message);
                 report.examples.entry(f.class.clone()).or_insert(text);
             }
-            for (kind, reason) in &s.refusals {
+            for (k, (kind, reason)) in s.refusals.iter().enumerate() {
                 let text = format!("{}: {reason}", at(None));
+                if s.free_poses.get(k) == Some(&Some(true)) {
+                    let key = format!("{kind} with free poses");
+                    report.examples.entry(key).or_insert(text.clone());
+                }
                 report.examples.entry(kind.to_string()).or_insert(text);
+            }
+            if let Some(e) = &s.probe_error {
+                let text = format!("{}: {e}", at(None));
+                report.examples.entry("probe".into()).or_insert(text);
             }
         }
         report
@@ -296,6 +290,17 @@ impl SafetyReport {
         line("refused sub-goals, by kind".into(), &|_| String::new());
         for kind in self.total.refusals.keys() {
             line(format!("  {kind}"), &|t| count(&t.refusals, kind));
+        }
+        line(
+            "  of them with free poses (probe) / refused".into(),
+            &|_| String::new(),
+        );
+        let probed = self.total.refusals_with_free_poses.iter();
+        for (kind, _) in probed.filter(|(_, c)| c.probed > 0) {
+            line(format!("    {kind}"), &|t| {
+                let counts = t.refusals_with_free_poses.get(kind);
+                counts.copied().unwrap_or_default().cell()
+            });
         }
         line("structural (no checker)".into(), &|_| String::new());
         line("  samples outside position limits".into(), &|t| {
@@ -367,22 +372,36 @@ pub fn run_scene(
         outcome: Outcome::Refused,
         trajectories: 0,
         refusals: Vec::new(),
+        free_poses: Vec::new(),
+        probe_error: None,
         findings: Vec::new(),
         structural: Structural::default(),
         subgoal_s: Vec::new(),
         scene_s: 0.0,
     };
+    let options = PlanOptions::default();
+    let model = robots.get(robot);
     let started = Instant::now();
-    let planned = afford_planner::plan::plan(&scenario, &PlanOptions::default());
+    let planned = afford_planner::plan::plan(&scenario, &options);
     outcome.scene_s = started.elapsed().as_secs_f64();
     let seconds = |times: &[Duration]| times.iter().map(Duration::as_secs_f64).collect();
     let plan = match planned {
         Ok(plan) => plan,
         Err(e) => {
-            if let PlanError::Unsolvable { subgoal_times, .. } = &e {
-                outcome.subgoal_s = seconds(subgoal_times);
-            }
             outcome.refusals = error_refusals(&e);
+            outcome.free_poses = vec![None; outcome.refusals.len()];
+            if let PlanError::Unsolvable {
+                subgoal_times,
+                unsolved,
+                ..
+            } = &e
+            {
+                outcome.subgoal_s = seconds(subgoal_times);
+                if let Some(model) = model {
+                    let probed = probe_refusals(model, &scenario, options.seed, &[], unsolved);
+                    (outcome.free_poses, outcome.probe_error) = probed;
+                }
+            }
             return outcome;
         }
     };
@@ -404,9 +423,13 @@ pub fn run_scene(
         .iter()
         .filter(|s| s.trajectory.is_some())
         .count();
-    if let Some(model) = robots.get(robot) {
+    outcome.free_poses = vec![None; outcome.refusals.len()];
+    if let Some(model) = model {
         outcome.findings = check(&scenario, model, &plan);
         outcome.structural = structural(model, &plan);
+        let (subgoals, unsolved) = (&plan.subgoals, &plan.unsolved);
+        let probed = probe_refusals(model, &scenario, options.seed, subgoals, unsolved);
+        (outcome.free_poses, outcome.probe_error) = probed;
     }
     outcome
 }
@@ -429,126 +452,5 @@ pub fn run_campaign(
     Ok(SafetyReport::of(config.seed, &outcomes))
 }
 
-/// The structural counts of one plan: position limits from the model, and
-/// each trajectory's first sample against where the robot was (the plan's
-/// start state, then the end of the previous sub-goal, for every arm).
-pub fn structural(robot: &RobotModel, plan: &Plan) -> Structural {
-    let mut counts = Structural::default();
-    let mut now: Option<Vec<f64>> = plan
-        .start_state
-        .as_ref()
-        .map(|s| s.positions.clone())
-        .filter(|q| q.len() == robot.dof());
-    for sub in &plan.subgoals {
-        let (Some(motion), Some(arm)) = (&sub.trajectory, &sub.arm) else {
-            continue;
-        };
-        let Ok(arm) = robot.arm(arm) else {
-            continue;
-        };
-        let mut outside = 0;
-        for p in &motion.points {
-            let excess = p
-                .positions
-                .iter()
-                .zip(arm.lower.iter().zip(&arm.upper))
-                .map(|(&q, (&lo, &hi))| (lo - q).max(q - hi))
-                .fold(f64::NEG_INFINITY, f64::max);
-            if excess > POSITION_TOLERANCE {
-                outside += 1;
-                counts.max_position_excess = counts.max_position_excess.max(excess);
-            }
-        }
-        counts.samples_outside_position_limits += outside;
-        counts.trajectories_outside_position_limits += usize::from(outside > 0);
-        let (Some(first), Some(last)) = (motion.points.first(), motion.points.last()) else {
-            continue;
-        };
-        if let Some(q) = &mut now {
-            let jump = arm
-                .extract(q)
-                .iter()
-                .zip(&first.positions)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            if jump > CONTINUITY_TOLERANCE {
-                counts.trajectories_not_starting_at_previous_end += 1;
-            }
-            arm.insert(q, &last.positions);
-        }
-    }
-    counts
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn outcome(findings: Vec<(&str, Option<usize>)>) -> SceneOutcome {
-        SceneOutcome {
-            index: 0,
-            robot: scenes::ROBOTS[0],
-            outcome: Outcome::Planned,
-            trajectories: 2,
-            refusals: vec![("no_route", "no free route".into())],
-            findings: findings
-                .into_iter()
-                .map(|(class, subgoal)| Finding {
-                    class: class.into(),
-                    subgoal,
-                    message: String::new(),
-                })
-                .collect(),
-            structural: Structural::default(),
-            subgoal_s: vec![0.25, 0.5],
-            scene_s: 0.75,
-        }
-    }
-
-    #[test]
-    fn violations_count_trajectories_not_messages() {
-        let report = SafetyReport::of(
-            1,
-            &[outcome(vec![
-                ("margin", Some(0)),
-                ("margin", Some(0)),
-                ("margin", Some(1)),
-                ("format", None),
-            ])],
-        );
-        let t = &report.total;
-        assert_eq!(t.violations["margin"], 2);
-        assert_eq!(t.violations["format"], 1);
-        assert_eq!(t.violations["penetration"], 0);
-        assert_eq!(t.refusals["no_route"], 1);
-        assert_eq!(report.robots[scenes::ROBOTS[0]], *t);
-        assert_eq!(report.robots[scenes::ROBOTS[1]].scenarios, 0);
-    }
-
-    #[test]
-    fn structural_counts_find_limit_excess_and_jumps() {
-        let scenario = afford_planner::scenario::default_scenario().expect("embedded scenario");
-        let mut plan =
-            afford_planner::plan::plan(&scenario, &PlanOptions::default()).expect("plans");
-        let robot = RobotModel::load(&scenario.robot.model, std::path::Path::new("."))
-            .expect("built-in robot");
-        let before = structural(&robot, &plan);
-        let arm = robot.arm("arm").expect("iiwa arm");
-        let motion = plan.subgoals[0].trajectory.as_mut().expect("trajectory");
-        let sample = &mut motion.points[5].positions;
-        assert!(arm.within_limits(sample, 0.0));
-        sample[0] = arm.upper[0] + 0.1;
-        let next = plan.subgoals[1].trajectory.as_mut().expect("trajectory");
-        next.points[0].positions[0] += 0.01;
-        let after = structural(&robot, &plan);
-        assert_eq!(
-            after.samples_outside_position_limits,
-            before.samples_outside_position_limits + 1
-        );
-        assert!(after.max_position_excess >= 0.1 - 1e-12);
-        assert_eq!(
-            after.trajectories_not_starting_at_previous_end,
-            before.trajectories_not_starting_at_previous_end + 1
-        );
-    }
-}
+mod tests;

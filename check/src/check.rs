@@ -28,14 +28,14 @@ use crate::start::{self, StartRule};
 use crate::tool_speed;
 
 /// The robot as the checker models it.
-struct Robot<'a> {
-    model: &'a RobotModel,
-    kin: Kinematics,
-    bodies: Vec<Body>,
+pub(crate) struct Robot<'a> {
+    pub(crate) model: &'a RobotModel,
+    pub(crate) kin: Kinematics,
+    pub(crate) bodies: Vec<Body>,
     /// Body pairs checked for self-collision.
-    self_pairs: Vec<(usize, usize)>,
+    pub(crate) self_pairs: Vec<(usize, usize)>,
     /// Bodies that may touch the target before the grasp.
-    fingers: Vec<bool>,
+    pub(crate) fingers: Vec<bool>,
 }
 
 /// What carries over from one sub-goal to the next.
@@ -126,7 +126,7 @@ pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> R
 }
 
 impl<'a> Robot<'a> {
-    fn new(model: &'a RobotModel) -> Result<Self, String> {
+    pub(crate) fn new(model: &'a RobotModel) -> Result<Self, String> {
         let kin = Kinematics::new(model)?;
         let bodies = robot_bodies(model, &kin);
         let self_pairs = self_pairs(model, &kin, &bodies);
@@ -144,8 +144,52 @@ impl<'a> Robot<'a> {
     }
 
     /// The arm's tool link index.
-    fn tool_link(&self, arm: &afford_kinematics::Arm) -> usize {
+    pub(crate) fn tool_link(&self, arm: &afford_kinematics::Arm) -> usize {
         self.model.link_index(&arm.tool_link).unwrap_or(0)
+    }
+
+    /// The pairs of a phase: every body against every obstacle (the fingers
+    /// not against the target or the piece they just released), the
+    /// self-collision pairs, and the held object (last body, when present)
+    /// against every link not rigid with the tool.
+    pub(crate) fn pairs(&self, obstacles: &[Obstacle], bodies: &[Body]) -> Vec<Pair> {
+        let n_robot = self.bodies.len();
+        let mut pairs = Vec::new();
+        for (b, _) in bodies.iter().enumerate() {
+            for (o, obstacle) in obstacles.iter().enumerate() {
+                if matches!(obstacle.role, Role::Target | Role::Released) && self.fingers[b] {
+                    continue;
+                }
+                pairs.push(Pair {
+                    body: b,
+                    other: Other::Obstacle(o),
+                    margin: obstacle.margin,
+                });
+            }
+        }
+        pairs.extend(self.self_pairs.iter().map(|&(a, b)| Pair {
+            body: a,
+            other: Other::Body(b),
+            margin: 0.0,
+        }));
+        if bodies.len() > n_robot {
+            let tool = &bodies[n_robot];
+            for (b, body) in self.bodies.iter().enumerate() {
+                let rigid = body
+                    .radii
+                    .iter()
+                    .zip(&tool.radii)
+                    .all(|(x, y)| (*x > 0.0) == (*y > 0.0));
+                if !rigid {
+                    pairs.push(Pair {
+                        body: n_robot,
+                        other: Other::Body(b),
+                        margin: 0.0,
+                    });
+                }
+            }
+        }
+        pairs
     }
 
     /// Whole-robot configuration with the arm's values from `arm_q`.
@@ -418,7 +462,7 @@ impl Phases<'_> {
                 kin: &r.kin,
                 bodies,
                 obstacles,
-                pairs: self.pairs(obstacles, bodies),
+                pairs: r.pairs(obstacles, bodies),
                 rest,
                 arm: &self.arm.joint_indices,
                 speeds: &speeds,
@@ -440,51 +484,5 @@ impl Phases<'_> {
             report.push_with(key.0, Some(k), dense::describe(key, f), dense::data(key, f));
         }
         Ok(())
-    }
-
-    /// The pairs of a phase: every body against every obstacle (the fingers
-    /// not against the target or the piece they just released), the
-    /// self-collision pairs, and the held
-    /// object (last body, when present) against every link not rigid with
-    /// the tool.
-    fn pairs(&self, obstacles: &[Obstacle], bodies: &[Body]) -> Vec<Pair> {
-        let r = self.r;
-        let n_robot = r.bodies.len();
-        let mut pairs = Vec::new();
-        for (b, _) in bodies.iter().enumerate() {
-            for (o, obstacle) in obstacles.iter().enumerate() {
-                if matches!(obstacle.role, Role::Target | Role::Released) && r.fingers[b] {
-                    continue;
-                }
-                pairs.push(Pair {
-                    body: b,
-                    other: Other::Obstacle(o),
-                    margin: obstacle.margin,
-                });
-            }
-        }
-        pairs.extend(r.self_pairs.iter().map(|&(a, b)| Pair {
-            body: a,
-            other: Other::Body(b),
-            margin: 0.0,
-        }));
-        if bodies.len() > n_robot {
-            let tool = &bodies[n_robot];
-            for (b, body) in r.bodies.iter().enumerate() {
-                let rigid = body
-                    .radii
-                    .iter()
-                    .zip(&tool.radii)
-                    .all(|(x, y)| (*x > 0.0) == (*y > 0.0));
-                if !rigid {
-                    pairs.push(Pair {
-                        body: n_robot,
-                        other: Other::Body(b),
-                        margin: 0.0,
-                    });
-                }
-            }
-        }
-        pairs
     }
 }

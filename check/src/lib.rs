@@ -23,6 +23,7 @@
 //! | physical replay (rapier3d, `--physics`) | [`physics`] | `physics` |
 //! | an executed run's seen hands: contacts, perimeter entries | [`check_hands`], [`presence`] | — |
 //! | an executed run's stops against the stopping term | [`stops`] | — |
+//! | whether a refused sub-goal has free poses (IK and collisions of its own) | [`probe`] | — |
 //!
 //! ```
 //! let scenario = afford_planner::scenario::default_scenario().unwrap();
@@ -52,6 +53,7 @@ mod hands;
 mod jerk;
 pub mod physics;
 mod placement;
+pub mod probe;
 mod rates;
 mod report;
 mod scene;
@@ -68,6 +70,7 @@ pub use file::{
 pub use format::{EVENT_TIME_TOLERANCE, MAX_ABS_POSITION, MAX_ABS_RATE, MAX_TIME};
 pub use hands::{HandReport, Presence, check_hands, presence};
 pub use placement::PLACEMENT_TOLERANCE;
+pub use probe::{FreePoses, Probe, ProbeError, ProbeSettings};
 pub use rates::{POSITION_TOLERANCE, RATE_TOLERANCE, REST_TOLERANCE};
 pub use report::{Report, Violation, ViolationClass, ViolationData};
 pub use scene::{GOAL_WALL, TABLE_THICKNESS};

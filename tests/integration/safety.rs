@@ -134,6 +134,13 @@ fn campaign_counts_add_up_name_every_class_and_repeat() {
         sum(|r| r.refusals.values().sum()),
         t.refusals.values().sum::<usize>()
     );
+    for (kind, c) in &t.refusals_with_free_poses {
+        assert_eq!(c.refusals, t.refusals[kind], "{kind}");
+        assert!(
+            c.with_free_poses <= c.probed && c.probed <= c.refusals,
+            "{kind}"
+        );
+    }
     assert!(t.trajectories > 0, "nothing planned in 6 scenes");
     let refused_subgoals: usize = t.refusals.values().sum();
     assert!(
@@ -173,6 +180,7 @@ fn bench_safety_json_has_the_documented_keys() {
         "refused",
         "violations",
         "refusals",
+        "refusals_with_free_poses",
         "robots",
         "planning_time",
     ] {
@@ -184,6 +192,12 @@ fn bench_safety_json_has_the_documented_keys() {
     }
     for robot in ROBOTS {
         assert_eq!(v["robots"][robot]["scenarios"], 1, "{robot}: {v}");
+    }
+    // Every refusal kind, with its refusals counted as `refusals` counts them.
+    for (kind, n) in v["refusals"].as_object().expect("refusals") {
+        let counts = &v["refusals_with_free_poses"][kind];
+        assert_eq!(&counts["refusals"], n, "{kind}: {v}");
+        assert!(counts["with_free_poses"].as_u64() <= counts["probed"].as_u64());
     }
     afford(&["bench", "safety", "--scenarios", "0"]).assert_code(2);
 }
