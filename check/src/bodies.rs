@@ -22,6 +22,7 @@ use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3};
 use parry3d::shape::SharedShape;
 
 use crate::chain::{Iso, Kinematics};
+use crate::scene::solid_box;
 
 /// One rigid body of the robot (or the held object).
 #[derive(Clone)]
@@ -114,7 +115,7 @@ fn prismatic_travel(robot: &RobotModel, j: usize) -> f64 {
 /// cylinders run along local y, URDF's along z.
 fn parry_shape(shape: &Shape) -> (SharedShape, Iso) {
     match *shape {
-        Shape::Box { half_extents: h } => (SharedShape::cuboid(h.x, h.y, h.z), Iso::identity()),
+        Shape::Box { half_extents: h } => (solid_box([h.x, h.y, h.z]), Iso::identity()),
         Shape::Cylinder {
             radius,
             half_length,

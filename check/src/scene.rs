@@ -99,7 +99,7 @@ impl Piece {
                     .map(|(pose, shape)| (to_parry(pose), shape.clone()))
                     .collect(),
             ),
-            false => SharedShape::cuboid(self.half[0], self.half[1], self.half[2]),
+            false => solid_box(self.half),
         }
     }
 
@@ -107,7 +107,7 @@ impl Piece {
     pub(crate) fn parts(&self) -> Vec<(Iso, SharedShape)> {
         let [hx, hy, hz] = self.half;
         if !self.round {
-            return vec![(Iso::identity(), SharedShape::cuboid(hx, hy, hz))];
+            return vec![(Iso::identity(), solid_box([hx, hy, hz]))];
         }
         let r = hx.min(hy);
         // Where the two cylinders' axes stand: along the longer side.
@@ -125,8 +125,8 @@ impl Piece {
         }
         // The box between the axes, as wide as the cylinders.
         let between = match end.x > 0.0 {
-            true => SharedShape::cuboid(end.x, hy, hz),
-            false => SharedShape::cuboid(hx, end.y, hz),
+            true => solid_box([end.x, hy, hz]),
+            false => solid_box([hx, end.y, hz]),
         };
         vec![cylinder(end), (Iso::identity(), between), cylinder(-end)]
     }
@@ -195,10 +195,7 @@ impl Obstacle {
             name: name.to_string(),
             margin,
             role: Role::Obstacle,
-            parts: vec![(
-                to_parry(pose),
-                SharedShape::cuboid(half[0], half[1], half[2]),
-            )],
+            parts: vec![(to_parry(pose), solid_box(half))],
         }
     }
 
@@ -326,10 +323,7 @@ fn open_box(name: &str, margin: f64, f: &Footprint, z0: f64, height: f64) -> Obs
         .into_iter()
         .map(|(half, local)| {
             let pose = frame * Iso::translation(local[0], local[1], local[2]);
-            (
-                to_parry(&pose),
-                SharedShape::cuboid(half[0], half[1], half[2]),
-            )
+            (to_parry(&pose), solid_box(half))
         })
         .collect();
     Obstacle {
@@ -359,9 +353,57 @@ pub(crate) fn signed_distance(
         .map_or(0.0, |c| c.dist.min(0.0))
 }
 
+/// A box of half extents `half` as the convex hull of its eight corners:
+/// the checker measures every box as a polyhedron (GJK), never with parry
+/// 0.31's dedicated box-box distance, which overestimates the gap of boxes
+/// turned about a common axis by up to tens of millimetres
+/// (dimforge/parry#431). A flat box (no hull) stays a cuboid.
+pub(crate) fn solid_box(half: [f64; 3]) -> SharedShape {
+    let corners: Vec<parry3d::math::Vector> = (0..8)
+        .map(|k| {
+            let side = |bit: usize| if k >> bit & 1 == 1 { 1.0 } else { -1.0 };
+            parry3d::math::Vector::new(side(0) * half[0], side(1) * half[1], side(2) * half[2])
+        })
+        .collect();
+    SharedShape::convex_hull(&corners)
+        .unwrap_or_else(|| SharedShape::cuboid(half[0], half[1], half[2]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two boxes turned about the vertical, 5.38 mm apart (GJK on their
+    /// corners' hulls and on their support maps agree): parry 0.31's
+    /// box-box distance says 69.6 mm.
+    #[test]
+    fn boxes_turned_about_the_vertical_are_measured_at_their_true_gap() {
+        let a = solid_box([0.154_551, 0.070_896, 0.061_880]);
+        let b = solid_box([0.038_715, 0.040_928, 0.171_407]);
+        let pa = to_parry(&Iso::from_parts(
+            Translation3::identity(),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -2.856_240),
+        ));
+        let pb = to_parry(&Iso::translation(0.174_181, -0.065_525, 0.238_664));
+        let gap = signed_distance(&pa, &a, &pb, &b);
+        assert!((gap - 0.005_377).abs() < 1e-5, "{gap}");
+        let cuboids = parry3d::query::distance(
+            &pa,
+            &parry3d::shape::Cuboid::new(parry3d::math::Vector::new(
+                0.154_551, 0.070_896, 0.061_880,
+            )),
+            &pb,
+            &parry3d::shape::Cuboid::new(parry3d::math::Vector::new(
+                0.038_715, 0.040_928, 0.171_407,
+            )),
+        )
+        .unwrap()
+        .distance;
+        assert!(
+            cuboids > gap + 0.05,
+            "parry's box-box distance is right again: {cuboids}"
+        );
+    }
 
     #[test]
     fn signed_distance_is_negative_inside() {
