@@ -11,8 +11,9 @@ use crate::chain::{Chain, ChainJoint, Motion};
 use crate::description::{self, AllowedReason, Description};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real};
-use crate::model::{Arm, Joint, JointKind, Link, RobotModel};
-use crate::urdf::{self, Tree};
+use crate::mesh::{MeshSearch, PackagePaths};
+use crate::model::{Arm, Joint, JointDrive, JointKind, Link, MimicJoint, RobotModel};
+use crate::urdf::{self, Tree, TreeJoint};
 
 /// Jerk limit of a joint whose description and URDF give none: its
 /// acceleration limit reached from zero in this time, 0.02 s (two periods
@@ -41,8 +42,18 @@ impl RobotModel {
 
     /// A built-in name, or a path to a description `.yaml` (or to a `.urdf`
     /// with a `.yaml` of the same stem beside it). Relative paths are taken
-    /// relative to `base_dir` (the scenario's folder).
+    /// relative to `base_dir` (the scenario's folder). Meshes are searched
+    /// with [`PackagePaths::new`] and no folders of the caller's.
     pub fn load(model: &str, base_dir: &Path) -> Result<Self, KinematicsError> {
+        Self::load_with(model, base_dir, &PackagePaths::new(Vec::new()))
+    }
+
+    /// As [`Self::load`], with `package://` meshes searched in `packages`.
+    pub fn load_with(
+        model: &str,
+        base_dir: &Path,
+        packages: &PackagePaths,
+    ) -> Result<Self, KinematicsError> {
         if builtin::find(model).is_some() {
             return Self::builtin(model);
         }
@@ -55,12 +66,17 @@ impl RobotModel {
                 known: builtin::NAMES.join(", "),
             });
         }
-        Self::from_path(&path)
+        Self::from_path_with(&path, packages)
     }
 
     /// Loads a user robot from a description `.yaml`, or from a `.urdf` whose
     /// description is the `.yaml` of the same stem in the same folder.
     pub fn from_path(path: &Path) -> Result<Self, KinematicsError> {
+        Self::from_path_with(path, &PackagePaths::new(Vec::new()))
+    }
+
+    /// As [`Self::from_path`], with `package://` meshes searched in `packages`.
+    pub fn from_path_with(path: &Path, packages: &PackagePaths) -> Result<Self, KinematicsError> {
         let description_path = if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
@@ -104,15 +120,20 @@ impl RobotModel {
             .unwrap_or_else(|| Path::new("."))
             .join(&description.urdf);
         let urdf_text = read(&urdf_path)?;
-        let tree = urdf::parse(&urdf_text, &urdf_path)?;
+        let search = MeshSearch {
+            urdf_dir: urdf_path.parent().unwrap_or_else(|| Path::new(".")),
+            packages,
+        };
+        let tree = urdf::parse(&urdf_text, &urdf_path, search)?;
         let mut model = assemble(&tree, &description, &description_path)?;
         model.source = description_path.display().to_string();
         model.urdf = urdf_text.into();
         Ok(model)
     }
 
-    /// Builds a model from description YAML and URDF text; the paths only name
-    /// the files in error messages.
+    /// Builds a model from description YAML and URDF text; the paths name
+    /// the files in error messages, and meshes are looked for from the URDF
+    /// path's folder (as [`Self::load`] does).
     pub fn from_texts(
         description_yaml: &str,
         description_file: &Path,
@@ -120,7 +141,12 @@ impl RobotModel {
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
         let description = parse_description(description_yaml, description_file)?;
-        let tree = urdf::parse(urdf_text, urdf_file)?;
+        let packages = PackagePaths::new(Vec::new());
+        let search = MeshSearch {
+            urdf_dir: urdf_file.parent().unwrap_or_else(|| Path::new(".")),
+            packages: &packages,
+        };
+        let tree = urdf::parse(urdf_text, urdf_file, search)?;
         let mut model = assemble(&tree, &description, description_file)?;
         model.source = description_file.display().to_string();
         model.urdf = urdf_text.into();
@@ -164,51 +190,26 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         bounds::check_range("the size", value, (0.0, MAX_GRIPPER_SIZE_M))
             .map_err(|problem| err(format!("gripper.{name}"), problem))?;
     }
-    // Movable joints in tree order form the configuration.
+    // Movable joints in tree order form the configuration; mimic joints
+    // follow one of them.
     let mut joints = Vec::new();
+    for j in tree.links.iter().filter_map(|l| l.joint.as_ref()) {
+        if j.kind != JointKind::Fixed && j.resolved.is_none() {
+            joints.push(configuration_joint(j, d, &err)?);
+        }
+    }
+    if joints.len() > MAX_MOVABLE_JOINTS {
+        return Err(err(
+            "urdf".into(),
+            format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
+        ));
+    }
+    let mut mimics = Vec::new();
     let mut links = Vec::with_capacity(tree.links.len());
     for tl in &tree.links {
         let (origin, joint) = match &tl.joint {
             None => (Pose::identity(), None),
-            Some(j) if j.kind == JointKind::Fixed => (j.origin, None),
-            Some(j) => {
-                let acceleration = match d.acceleration_limits.get(&j.name) {
-                    Some(&a) => a,
-                    None => j.acceleration,
-                };
-                if !(acceleration.is_finite() && acceleration > 0.0) {
-                    return Err(err(
-                        format!("acceleration_limits.{}", j.name),
-                        "missing or not positive: give a limit here or in the URDF <limit acceleration=..>".into(),
-                    ));
-                }
-                bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
-                    .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
-                let jerk = match (d.jerk_limits.get(&j.name), j.jerk.is_finite()) {
-                    (Some(&jerk), _) => jerk,
-                    (None, true) => j.jerk,
-                    (None, false) => acceleration / DEFAULT_JERK_RAMP_S,
-                };
-                bounds::check_range("the limit", jerk, JERK_LIMIT_RANGE)
-                    .map_err(|problem| err(format!("jerk_limits.{}", j.name), problem))?;
-                if joints.len() == MAX_MOVABLE_JOINTS {
-                    return Err(err(
-                        "urdf".into(),
-                        format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
-                    ));
-                }
-                joints.push(Joint {
-                    name: j.name.clone(),
-                    kind: j.kind,
-                    lower: j.lower,
-                    upper: j.upper,
-                    velocity: j.velocity,
-                    acceleration,
-                    jerk,
-                    effort: j.effort,
-                });
-                (j.origin, Some((joints.len() - 1, j.axis, j.kind)))
-            }
+            Some(j) => (j.origin, drive(j, &joints, &mut mimics)),
         };
         links.push(Link {
             name: tl.name.clone(),
@@ -274,21 +275,30 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         let mut base = Pose::identity();
         let mut up = Some(root);
         while let Some(i) = up {
-            if let Some((ci, _, _)) = links[i].joint {
+            if let Some(drive) = links[i].joint {
                 return Err(err(
                     at("root"),
                     format!(
                         "link '{}' moves with joint '{}'; start the arm lower or list that joint among its joints",
-                        ad.root, joints[ci].name
+                        ad.root, joints[drive.joint].name
                     ),
                 ));
             }
             base = links[i].origin * base;
             up = links[i].parent;
         }
+        if let Some(m) = path.iter().find_map(|&l| mimic_name(tree, &links, l)) {
+            return Err(err(
+                at("joints"),
+                format!(
+                    "mimic joint '{m}' lies between '{}' and '{}'; an arm's chain cannot hold a mimic joint",
+                    ad.root, ad.tool
+                ),
+            ));
+        }
         let movable: Vec<usize> = path
             .iter()
-            .filter_map(|&l| links[l].joint.map(|(ci, _, _)| ci))
+            .filter_map(|&l| links[l].joint.map(|d| d.joint))
             .collect();
         let listed: Vec<usize> = ad
             .joints
@@ -330,7 +340,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         for &l in &path {
             let link = &links[l];
             pending *= link.origin;
-            if let Some((_, axis, kind)) = link.joint {
+            if let Some(JointDrive { axis, kind, .. }) = link.joint {
                 chain_joints.push(ChainJoint {
                     origin: pending,
                     axis,
@@ -396,6 +406,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         source: String::new(),
         links,
         joints,
+        mimics,
         arms,
         home,
         gripper: d.gripper.clone(),
@@ -403,6 +414,84 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         allowed_collisions: d.allowed_collisions.clone(),
         urdf: "".into(),
     })
+}
+
+/// A configuration joint from its URDF joint, with the description's
+/// acceleration and jerk limits (or the URDF's, or the default jerk).
+fn configuration_joint(
+    j: &TreeJoint,
+    d: &Description,
+    err: &impl Fn(String, String) -> KinematicsError,
+) -> Result<Joint, KinematicsError> {
+    let acceleration = match d.acceleration_limits.get(&j.name) {
+        Some(&a) => a,
+        None => j.acceleration,
+    };
+    if !(acceleration.is_finite() && acceleration > 0.0) {
+        return Err(err(
+            format!("acceleration_limits.{}", j.name),
+            "missing or not positive: give a limit here or in the URDF <limit acceleration=..>"
+                .into(),
+        ));
+    }
+    bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
+        .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
+    let jerk = match (d.jerk_limits.get(&j.name), j.jerk.is_finite()) {
+        (Some(&jerk), _) => jerk,
+        (None, true) => j.jerk,
+        (None, false) => acceleration / DEFAULT_JERK_RAMP_S,
+    };
+    bounds::check_range("the limit", jerk, JERK_LIMIT_RANGE)
+        .map_err(|problem| err(format!("jerk_limits.{}", j.name), problem))?;
+    Ok(Joint {
+        name: j.name.clone(),
+        kind: j.kind,
+        lower: j.lower,
+        upper: j.upper,
+        velocity: j.velocity,
+        acceleration,
+        jerk,
+        effort: j.effort,
+    })
+}
+
+/// What drives the URDF joint `j` (`None`: fixed); a mimic joint is added
+/// to `mimics`. Its configuration joint is in `joints` (the URDF's mimic
+/// chains were resolved to one).
+fn drive(j: &TreeJoint, joints: &[Joint], mimics: &mut Vec<MimicJoint>) -> Option<JointDrive> {
+    if j.kind == JointKind::Fixed {
+        return None;
+    }
+    let index = |name: &str| joints.iter().position(|c| c.name == name);
+    let Some(r) = &j.resolved else {
+        return Some(JointDrive {
+            joint: index(&j.name)?,
+            axis: j.axis,
+            kind: j.kind,
+            mimic: None,
+        });
+    };
+    let joint = index(&r.root)?;
+    mimics.push(MimicJoint {
+        name: j.name.clone(),
+        leader: r.leader.clone(),
+        joint,
+        mimic: r.mimic,
+        lower: j.lower,
+        upper: j.upper,
+    });
+    Some(JointDrive {
+        joint,
+        axis: j.axis,
+        kind: j.kind,
+        mimic: Some(r.mimic),
+    })
+}
+
+/// The name of the mimic joint above link `l`, if it has one.
+fn mimic_name<'a>(tree: &'a Tree, links: &[Link], l: usize) -> Option<&'a str> {
+    links[l].joint?.mimic?;
+    tree.links[l].joint.as_ref().map(|j| j.name.as_str())
 }
 
 /// True when `body` names a collider the way the collision crate names its
