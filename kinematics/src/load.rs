@@ -226,10 +226,14 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         ("jerk_limits", &d.jerk_limits),
     ] {
         if let Some(name) = map.keys().find(|n| joint_index(n).is_none()) {
-            return Err(err(
-                format!("{section}.{name}"),
-                "is not a movable joint of the URDF".into(),
-            ));
+            let problem = match mimics.iter().find(|m| &m.name == name) {
+                Some(m) => format!(
+                    "is a mimic joint (it follows '{}'): give its leader's value",
+                    m.leader
+                ),
+                None => "is not a movable joint of the URDF".into(),
+            };
+            return Err(err(format!("{section}.{name}"), problem));
         }
     }
     let mut home = Vec::with_capacity(joints.len());
