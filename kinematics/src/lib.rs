@@ -13,6 +13,7 @@
 //! k's types stay in the `kchain` module.
 
 mod adjacency;
+mod arms;
 mod bench;
 pub mod bounds;
 mod builtin;

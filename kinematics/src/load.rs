@@ -7,12 +7,11 @@ use std::path::{Path, PathBuf};
 
 use crate::bounds::{self, *};
 use crate::builtin;
-use crate::chain::{Chain, ChainJoint, Motion};
 use crate::description::{self, AllowedReason, Description};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real};
 use crate::mesh::{MeshSearch, PackagePaths};
-use crate::model::{Arm, Joint, JointDrive, JointKind, Link, MimicJoint, RobotModel};
+use crate::model::{Joint, JointDrive, JointKind, Link, MimicJoint, RobotModel};
 use crate::urdf::{self, Tree, TreeJoint};
 
 /// Jerk limit of a joint whose description and URDF give none: its
@@ -169,7 +168,7 @@ fn parse_description(text: &str, file: &Path) -> Result<Description, KinematicsE
 /// True when a joint value (`home`, `park`) is finite and within the bound
 /// of its kind: [`MAX_PRISMATIC_LIMIT_M`] or [`MAX_REVOLUTE_LIMIT_RAD`]
 /// (continuous joints too, which have no limits of their own).
-fn value_in_bounds(kind: JointKind, v: Real) -> bool {
+pub(crate) fn value_in_bounds(kind: JointKind, v: Real) -> bool {
     let largest = match kind {
         JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
         _ => MAX_REVOLUTE_LIMIT_RAD,
@@ -251,149 +250,16 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         }
         home.push(v);
     }
-    let link_index = |name: &str| links.iter().position(|l| l.name == name);
-    let mut arms = Vec::with_capacity(d.arms.len());
-    for (ai, ad) in d.arms.iter().enumerate() {
-        let at = |field: &str| format!("arms[{ai}].{field}");
-        let root = link_index(&ad.root)
-            .ok_or_else(|| err(at("root"), format!("link '{}' is not in the URDF", ad.root)))?;
-        let tool = link_index(&ad.tool)
-            .ok_or_else(|| err(at("tool"), format!("link '{}' is not in the URDF", ad.tool)))?;
-        // Path tool -> root.
-        let mut path = Vec::new();
-        let mut cur = tool;
-        while cur != root {
-            path.push(cur);
-            cur = links[cur].parent.ok_or_else(|| {
-                err(
-                    at("tool"),
-                    format!(
-                        "link '{}' does not hang below root link '{}'",
-                        ad.tool, ad.root
-                    ),
-                )
-            })?;
-        }
-        path.reverse();
-        // Root must be fixed to the robot base.
-        let mut base = Pose::identity();
-        let mut up = Some(root);
-        while let Some(i) = up {
-            if let Some(drive) = links[i].joint {
-                return Err(err(
-                    at("root"),
-                    format!(
-                        "link '{}' moves with joint '{}'; start the arm lower or list that joint among its joints",
-                        ad.root, joints[drive.joint].name
-                    ),
-                ));
-            }
-            base = links[i].origin * base;
-            up = links[i].parent;
-        }
-        if let Some(m) = path.iter().find_map(|&l| mimic_name(tree, &links, l)) {
-            return Err(err(
-                at("joints"),
-                format!(
-                    "mimic joint '{m}' lies between '{}' and '{}'; an arm's chain cannot hold a mimic joint",
-                    ad.root, ad.tool
-                ),
-            ));
-        }
-        let movable: Vec<usize> = path
-            .iter()
-            .filter_map(|&l| links[l].joint.map(|d| d.joint))
-            .collect();
-        let listed: Vec<usize> = ad
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(k, n)| {
-                joint_index(n).ok_or_else(|| {
-                    err(
-                        format!("arms[{ai}].joints[{k}]"),
-                        format!("'{n}' is not a movable joint of the URDF"),
-                    )
-                })
-            })
-            .collect::<Result<_, _>>()?;
-        if listed != movable {
-            let names: Vec<&str> = movable.iter().map(|&i| joints[i].name.as_str()).collect();
-            return Err(err(
-                at("joints"),
-                format!(
-                    "must list the movable joints from '{}' to '{}' in order: [{}]",
-                    ad.root,
-                    ad.tool,
-                    names.join(", ")
-                ),
-            ));
-        }
-        if listed.len() > crate::chain::MAX_DOF {
-            return Err(err(
-                at("joints"),
-                format!(
-                    "at most {} joints per arm are supported",
-                    crate::chain::MAX_DOF
-                ),
-            ));
-        }
-        // Fold fixed transforms into the next movable joint's origin.
-        let mut chain_joints = Vec::with_capacity(listed.len());
-        let mut pending = base;
-        for &l in &path {
-            let link = &links[l];
-            pending *= link.origin;
-            if let Some(JointDrive { axis, kind, .. }) = link.joint {
-                chain_joints.push(ChainJoint {
-                    origin: pending,
-                    axis,
-                    motion: if kind == JointKind::Prismatic {
-                        Motion::Prismatic
-                    } else {
-                        Motion::Revolute
-                    },
-                });
-                pending = Pose::identity();
-            }
-        }
-        let chain = Chain {
-            joints: chain_joints,
-            tool: pending,
-        };
-        let lower: Vec<Real> = listed.iter().map(|&i| joints[i].lower).collect();
-        let upper: Vec<Real> = listed.iter().map(|&i| joints[i].upper).collect();
-        let mut park = Vec::with_capacity(ad.park.len());
-        for (name, &v) in &ad.park {
-            let i = joint_index(name).ok_or_else(|| {
-                err(
-                    format!("arms[{ai}].park.{name}"),
-                    "is not a movable joint of the URDF".into(),
-                )
-            })?;
-            if !joints[i].within(v, 1e-9) || !value_in_bounds(joints[i].kind, v) {
-                return Err(err(
-                    format!("arms[{ai}].park.{name}"),
-                    format!("{v} is outside the joint limits"),
-                ));
-            }
-            park.push((i, v));
-        }
-        let reach = chain.reach_bound(&upper, &lower);
-        arms.push(Arm {
-            name: ad.name.clone(),
-            root_link: ad.root.clone(),
-            tool_link: ad.tool.clone(),
-            joint_names: ad.joints.clone(),
-            home: listed.iter().map(|&i| home[i]).collect(),
-            joint_indices: listed,
-            lower,
-            upper,
-            park,
-            reach,
-            chain,
-        });
-    }
+    let robot = crate::arms::Robot {
+        tree,
+        links: &links,
+        joints: &joints,
+        home: &home,
+        err: &err,
+    };
+    let arms = (d.arms.iter().enumerate())
+        .map(|(ai, ad)| robot.arm(ai, ad))
+        .collect::<Result<Vec<_>, _>>()?;
     let self_collision_skip = allowed_pairs(&links, d, &err)?;
     for (k, finger) in d.gripper.fingers.iter().enumerate() {
         if !names_a_collider(&links, finger) {
@@ -490,12 +356,6 @@ fn drive(j: &TreeJoint, joints: &[Joint], mimics: &mut Vec<MimicJoint>) -> Optio
         kind: j.kind,
         mimic: Some(r.mimic),
     })
-}
-
-/// The name of the mimic joint above link `l`, if it has one.
-fn mimic_name<'a>(tree: &'a Tree, links: &[Link], l: usize) -> Option<&'a str> {
-    links[l].joint?.mimic?;
-    tree.links[l].joint.as_ref().map(|j| j.name.as_str())
 }
 
 /// True when `body` names a collider the way the collision crate names its
