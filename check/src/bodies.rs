@@ -157,8 +157,8 @@ mod tests {
     /// (measured on support points of every shape in 26 directions).
     #[test]
     fn motion_bound_covers_the_real_motion() {
-        for name in afford_kinematics::BUILTIN_ROBOTS {
-            let robot = RobotModel::builtin(name).unwrap();
+        for robot in crate::chain::test_robots() {
+            let name = robot.name();
             let kin = Kinematics::new(&robot).unwrap();
             let bodies = robot_bodies(&robot, &kin).unwrap();
             let q0 = robot.home().to_vec();
@@ -184,6 +184,45 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The checker's own hull of a box mesh (rebuilt from the model's
+    /// vertices) is as far from probes of every kind as the box primitive.
+    #[test]
+    fn a_mesh_body_has_the_distances_of_its_box() {
+        let robots = crate::chain::test_robots();
+        let robot = robots.iter().find(|r| r.name() == "mesh_box").unwrap();
+        let kin = Kinematics::new(robot).unwrap();
+        let mesh = &robot_bodies(robot, &kin).unwrap()[0];
+        let Shape::ConvexHull { vertices } = &robot.links()[1].colliders[0].shape else {
+            panic!("the fixture's part is a mesh");
+        };
+        let half = vertices
+            .iter()
+            .fold(Vector3::zeros(), |m, v| m.sup(&v.abs()));
+        let cuboid = SharedShape::cuboid(half.x, half.y, half.z);
+        let probes = [
+            SharedShape::ball(0.02),
+            SharedShape::capsule_z(0.04, 0.01),
+            SharedShape::cylinder(0.03, 0.02),
+        ];
+        for k in 0..9 {
+            let a = 0.7 * k as f64;
+            let at = parry3d::math::Vector::new(0.3 * a.cos(), 0.3 * a.sin(), 0.1 * a.sin());
+            let pose = crate::chain::to_parry(&Iso::new(
+                Vector3::new(at.x, at.y, at.z),
+                Vector3::new(0.2, a, -0.3 * a),
+            ));
+            let probe = &probes[k % 3];
+            let d = |s: &SharedShape| {
+                let id = parry3d::math::Pose::IDENTITY;
+                parry3d::query::distance(&id, s.as_ref(), &pose, probe.as_ref())
+                    .unwrap()
+                    .distance
+            };
+            let (a, b) = (d(&mesh.shape), d(&cuboid));
+            assert!(a > 0.0 && (a - b).abs() < 1e-6, "hull {a} vs box {b}");
         }
     }
 }

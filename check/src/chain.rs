@@ -98,7 +98,7 @@ impl Kinematics {
 
     /// Pose of every description link (base frame) for a robot configuration.
     pub(crate) fn link_poses(&self, q: &[f64]) -> Vec<Iso> {
-        let mut slots = vec![0.0; self.k_slot.len()];
+        let mut slots = vec![0.0; self.k_names.len()];
         for (&slot, &v) in self.k_slot.iter().zip(q) {
             slots[slot] = v;
         }
@@ -223,15 +223,29 @@ pub(crate) fn to_parry(pose: &Iso) -> PPose {
     )
 }
 
+/// The built-in robots and the test fixtures' robot with a mesh link and
+/// gripper with mimic joints (kinematics/tests/fixtures).
+#[cfg(test)]
+pub(crate) fn test_robots() -> Vec<RobotModel> {
+    let fixtures =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../kinematics/tests/fixtures");
+    let builtin = afford_kinematics::BUILTIN_ROBOTS
+        .iter()
+        .map(|n| RobotModel::builtin(n));
+    let files = ["mesh_box.yaml", "mimic_gripper.yaml"].map(|f| RobotModel::load(f, &fixtures));
+    builtin.chain(files).map(Result::unwrap).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// k's FK against afford-kinematics' own (the only place both are used).
+    /// k's FK against afford-kinematics' own (the only place both are used),
+    /// mimic joints included.
     #[test]
     fn k_forward_kinematics_agrees_with_afford_kinematics() {
-        for name in afford_kinematics::BUILTIN_ROBOTS {
-            let robot = RobotModel::builtin(name).unwrap();
+        for robot in test_robots() {
+            let name = robot.name().to_string();
             let kin = Kinematics::new(&robot).unwrap();
             for trial in 0..20 {
                 let q: Vec<f64> = robot
