@@ -42,7 +42,7 @@ pub enum KinematicsError {
         link: String,
         /// The mesh's `filename` as the URDF writes it.
         mesh: String,
-        problem: MeshProblem,
+        problem: Box<MeshProblem>,
     },
     /// A `<mimic>` joint that cannot follow its leader.
     #[error("{}: joint '{joint}': <mimic>: {problem}", file.display())]

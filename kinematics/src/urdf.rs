@@ -386,7 +386,7 @@ fn collider(
                     file: file.to_path_buf(),
                     link: link.to_string(),
                     mesh: filename.clone(),
-                    problem,
+                    problem: Box::new(problem),
                 }
             })?;
             Shape::ConvexHull { vertices }

@@ -245,7 +245,7 @@ fn refusal(test: &str, mesh: &str, write: impl FnOnce(&Path)) -> (MeshProblem, S
         "{message}"
     );
     match e {
-        KinematicsError::Mesh { problem, .. } => (problem, message),
+        KinematicsError::Mesh { problem, .. } => (*problem, message),
         other => panic!("not a mesh error: {other}"),
     }
 }

@@ -56,7 +56,7 @@ pub(crate) fn scaled_hull(
         )));
     }
     let thickness = thinnest_width(&vertices, &triangles);
-    if !(thickness >= MIN_SHAPE_SIZE_M) {
+    if thickness.is_nan() || thickness < MIN_SHAPE_SIZE_M {
         return Err(degenerate(format!(
             "the hull is {thickness:.2e} m thin, less than {MIN_SHAPE_SIZE_M} m (flat or a line)"
         )));
