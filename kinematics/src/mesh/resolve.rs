@@ -73,7 +73,9 @@ impl PackagePaths {
                 .iter()
                 .map(|e| e.join("share").join(package)),
         );
-        out.extend(urdf_dir.ancestors().map(|a| a.join(package)));
+        // Absolute, so that a relative folder's ancestors go up to the root.
+        let dir = std::path::absolute(urdf_dir).unwrap_or_else(|_| urdf_dir.to_path_buf());
+        out.extend(dir.ancestors().map(|a| a.join(package)));
         out
     }
 
