@@ -52,6 +52,13 @@ pub enum KinematicsError {
         joint: String,
         problem: MimicProblem,
     },
+    /// The SRDF does not parse or names what the URDF does not have.
+    #[error("{}: {element}: {problem}", file.display())]
+    Srdf {
+        file: PathBuf,
+        element: String,
+        problem: String,
+    },
     /// The description YAML does not parse or does not follow the schema.
     #[error("{}: malformed robot description: {message}", file.display())]
     DescriptionSyntax { file: PathBuf, message: String },

@@ -30,6 +30,7 @@ mod mesh;
 mod mimic;
 mod model;
 mod path;
+mod srdf;
 mod urdf;
 
 pub use bench::{
@@ -53,3 +54,4 @@ pub use model::{
     Arm, Collider, Joint, JointDrive, JointKind, Link, Mimic, MimicJoint, RobotModel, Shape,
 };
 pub use path::{JointPath, PathFailure, PathSettings, max_joint_step};
+pub use srdf::NamedPosture;

@@ -97,34 +97,20 @@ impl RobotModel {
         } else {
             path.to_path_buf()
         };
-        let read = |p: &Path| {
-            use std::io::Read;
-            let io = |source| KinematicsError::Io {
-                file: p.to_path_buf(),
-                source,
-            };
-            // One byte more than allowed: the parsers refuse a larger file.
-            let mut text = String::new();
-            crate::open_regular(p)
-                .map_err(io)?
-                .take(MAX_FILE_BYTES + 1)
-                .read_to_string(&mut text)
-                .map_err(io)?;
-            Ok(text)
-        };
-        let description_text = read(&description_path)?;
+        let description_text = read_text(&description_path)?;
         let description = parse_description(&description_text, &description_path)?;
         let urdf_path = description_path
             .parent()
             .unwrap_or_else(|| Path::new("."))
             .join(&description.urdf);
-        let urdf_text = read(&urdf_path)?;
+        let urdf_text = read_text(&urdf_path)?;
         let search = MeshSearch {
             urdf_dir: urdf_path.parent().unwrap_or_else(|| Path::new(".")),
             packages,
         };
         let tree = urdf::parse(&urdf_text, &urdf_path, search)?;
         let mut model = assemble(&tree, &description, &description_path)?;
+        attach_srdf(&mut model, &description, &description_path)?;
         model.source = description_path.display().to_string();
         model.urdf = urdf_text.into();
         Ok(model)
@@ -147,10 +133,41 @@ impl RobotModel {
         };
         let tree = urdf::parse(urdf_text, urdf_file, search)?;
         let mut model = assemble(&tree, &description, description_file)?;
+        attach_srdf(&mut model, &description, description_file)?;
         model.source = description_file.display().to_string();
         model.urdf = urdf_text.into();
         Ok(model)
     }
+}
+
+/// A robot file's text: a regular file of at most [`MAX_FILE_BYTES`] (one
+/// byte more is read, so that the parsers refuse a larger file).
+pub(crate) fn read_text(p: &Path) -> Result<String, KinematicsError> {
+    use std::io::Read;
+    let io = |source| KinematicsError::Io {
+        file: p.to_path_buf(),
+        source,
+    };
+    let mut text = String::new();
+    crate::open_regular(p)
+        .map_err(io)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(io)?;
+    Ok(text)
+}
+
+/// Reads the description's SRDF, if it names one, into `model`.
+fn attach_srdf(
+    model: &mut RobotModel,
+    d: &Description,
+    description_file: &Path,
+) -> Result<(), KinematicsError> {
+    let Some(srdf) = &d.srdf else {
+        return Ok(());
+    };
+    let dir = description_file.parent().unwrap_or_else(|| Path::new("."));
+    crate::srdf::attach(model, &dir.join(srdf))
 }
 
 /// Parses a description after checking its size ([`MAX_FILE_BYTES`]).
@@ -282,6 +299,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         gripper: d.gripper.clone(),
         self_collision_skip,
         allowed_collisions: d.allowed_collisions.clone(),
+        postures: Vec::new(),
         urdf: "".into(),
     })
 }

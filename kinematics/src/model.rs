@@ -261,6 +261,8 @@ pub struct RobotModel {
     pub(crate) gripper: Gripper,
     pub(crate) self_collision_skip: Vec<(usize, usize)>,
     pub(crate) allowed_collisions: Option<AllowedCollisions>,
+    /// The SRDF's `group_state`s.
+    pub(crate) postures: Vec<crate::srdf::NamedPosture>,
     /// The URDF text the model was built from.
     pub(crate) urdf: std::sync::Arc<str>,
 }
@@ -329,6 +331,22 @@ impl RobotModel {
         &self.home
     }
 
+    /// The postures the SRDF names (`group_state`), in its order.
+    pub fn named_postures(&self) -> &[crate::srdf::NamedPosture] {
+        &self.postures
+    }
+
+    /// The robot configuration of a named posture: home, with the posture's
+    /// joints set; `None` when no posture has that name.
+    pub fn posture(&self, name: &str) -> Option<Vec<Real>> {
+        let posture = self.postures.iter().find(|p| p.name == name)?;
+        let mut q = self.home.clone();
+        for &(i, v) in &posture.values {
+            q[i] = v;
+        }
+        Some(q)
+    }
+
     pub fn gripper(&self) -> &Gripper {
         &self.gripper
     }
@@ -340,7 +358,8 @@ impl RobotModel {
     }
 
     /// Link index pairs never checked for self-collision (smaller index first):
-    /// the adjacent pairs and the description's `allowed_collisions`.
+    /// the adjacent pairs, the description's `allowed_collisions` and the
+    /// SRDF's `disable_collisions`.
     pub fn self_collision_skip(&self) -> &[(usize, usize)] {
         &self.self_collision_skip
     }
