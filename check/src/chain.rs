@@ -148,9 +148,7 @@ impl Kinematics {
         }
         Ok(out)
     }
-}
 
-impl Kinematics {
     /// k's slot of its joint `name`, the robot joint driving it and the
     /// multiplier (1 for a robot joint).
     fn driver(&self, name: &str) -> Result<(usize, usize, f64), String> {
