@@ -312,3 +312,61 @@ fn local_transform(element: Node<'_, '_>) -> Res<Matrix4<f64>> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One triangle, as a `<polylist>`, instanced through `<instance_node>`
+    /// under a node that scales, turns and moves it (in millimetres).
+    const PLACED: &str = r##"<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema">
+  <asset><unit meter="0.001"/></asset>
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="12">9 9 9 1 0 0 0 1 0 0 0 1</float_array>
+      <technique_common><accessor source="#pa" count="4" stride="3"/></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <polylist count="1"><input semantic="VERTEX" source="#v" offset="0"/><vcount>3</vcount><p>1 2 3</p></polylist>
+  </mesh></geometry></library_geometries>
+  <library_nodes><node id="part"><instance_geometry url="#g"/></node></library_nodes>
+  <library_visual_scenes><visual_scene id="s"><node>
+    <matrix>1 0 0 100 0 1 0 0 0 0 1 0 0 0 0 1</matrix>
+    <rotate>0 0 1 90</rotate>
+    <scale>2 2 2</scale>
+    <instance_node url="#part"/>
+  </node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"##;
+
+    #[test]
+    fn scene_transforms_and_units_place_the_used_vertices() {
+        let points = points(PLACED.as_bytes()).unwrap();
+        // x' = 0.1 + 0.002 (-y), y' = 0.002 x, z' = 0.002 z; the unused
+        // first position is left out.
+        let expected = [
+            Vec3::new(0.1, 0.002, 0.0),
+            Vec3::new(0.098, 0.0, 0.0),
+            Vec3::new(0.1, 0.0, 0.002),
+        ];
+        assert_eq!(points.len(), 3);
+        for (p, e) in points.iter().zip(&expected) {
+            assert!((p - e).norm() < 1e-12, "{p:?} vs {e:?}");
+        }
+    }
+
+    #[test]
+    fn broken_references_are_errors() {
+        let missing = PLACED.replace(r##"url="#part""##, r##"url="#nothing""##);
+        assert!(points(missing.as_bytes()).unwrap_err().contains("nothing"));
+        let cycle = PLACED.replace(
+            r##"<instance_geometry url="#g"/></node>"##,
+            r##"<instance_node url="#part"/></node>"##,
+        );
+        assert!(points(cycle.as_bytes()).unwrap_err().contains("deeper"));
+        let past = PLACED.replace("<p>1 2 3</p>", "<p>1 2 7</p>");
+        assert!(
+            points(past.as_bytes())
+                .unwrap_err()
+                .contains("missing vertex")
+        );
+    }
+}
