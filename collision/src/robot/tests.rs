@@ -137,3 +137,26 @@ fn the_motion_bound_covers_mimic_joints() {
         assert!(apart > 0.0 && apart <= bound(left) + bound(right) + 1e-12);
     }
 }
+
+/// A revolute joint driving a prismatic mimic joint bounds that joint's
+/// travel: a configuration with it beyond its limits is refused.
+#[test]
+fn a_leader_of_a_prismatic_mimic_joint_is_held_to_its_limits() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../kinematics/tests/fixtures");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let urdf = read("mimic_gripper.urdf").replace(
+        r#"<mimic joint="finger_left_joint" multiplier="1" offset="0"/>"#,
+        r#"<mimic joint="lift" multiplier="0.01" offset="0.02"/>"#,
+    );
+    let model = RobotModel::from_texts(
+        &read("mimic_gripper.yaml"),
+        std::path::Path::new("mimic_gripper.yaml"),
+        &urdf,
+        std::path::Path::new("mimic_gripper.urdf"),
+    )
+    .unwrap();
+    let g = RobotGeometry::new(&model).unwrap();
+    assert!(g.check_config(&[1.4, 0.02], "q").is_ok());
+    let e = g.check_config(&[1.6, 0.02], "q").unwrap_err().to_string();
+    assert!(e.contains("'lift'") && e.contains("mimic"), "{e}");
+}
