@@ -128,7 +128,7 @@ pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> R
 impl<'a> Robot<'a> {
     pub(crate) fn new(model: &'a RobotModel) -> Result<Self, String> {
         let kin = Kinematics::new(model)?;
-        let bodies = robot_bodies(model, &kin);
+        let bodies = robot_bodies(model, &kin)?;
         let self_pairs = self_pairs(model, &kin, &bodies);
         let fingers = bodies
             .iter()
@@ -204,11 +204,11 @@ impl<'a> Robot<'a> {
 
 /// Pairs of bodies checked against each other: every pair except bodies of
 /// one link, pairs that never move relative to each other (the same joints
-/// move both), adjacent links (one is the nearest link with colliders above
+/// move both; a mimic joint is a joint of its own), adjacent links (one is the nearest link with colliders above
 /// the other) and the pairs the description allows.
 fn self_pairs(model: &RobotModel, kin: &Kinematics, bodies: &[Body]) -> Vec<(usize, usize)> {
     let joints = |link: usize| {
-        let mut j: Vec<usize> = kin.ancestry(link).iter().map(|&(j, _)| j).collect();
+        let mut j: Vec<usize> = kin.ancestry(link).iter().map(|a| a.slot).collect();
         j.sort_unstable();
         j
     };

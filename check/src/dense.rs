@@ -302,7 +302,7 @@ mod tests {
     fn configurations_through(torso: f64, dt: f64) -> usize {
         let model = RobotModel::builtin("care_o_bot4").unwrap();
         let kin = Kinematics::new(&model).unwrap();
-        let bodies = robot_bodies(&model, &kin);
+        let bodies = robot_bodies(&model, &kin).unwrap();
         let arm = model.arm("right").unwrap();
         let rest = model.home().to_vec();
         let start: Vec<f64> = arm.joint_indices.iter().map(|&j| rest[j]).collect();

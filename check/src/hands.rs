@@ -132,7 +132,9 @@ pub fn check_hands(
         .map(|p| start_time + p.time_from_start)
         .collect();
     let positions: Vec<&[f64]> = points.iter().map(|p| p.positions.as_slice()).collect();
-    let bodies = robot_bodies(robot, &kin);
+    let Ok(bodies) = robot_bodies(robot, &kin) else {
+        return report;
+    };
     let tool_link = robot.link_index(&arm.tool_link).unwrap_or(0);
     let whole = |k: usize| {
         let mut q = q0.clone();

@@ -104,6 +104,9 @@ impl RobotGeometry {
                                 match (a.ancestors & bit != 0, b.ancestors & bit != 0) {
                                     (true, false) => a.radii[j],
                                     (false, true) => b.radii[j],
+                                    (true, true) if self.multi_drive & bit != 0 => {
+                                        a.radii[j] + b.radii[j]
+                                    }
                                     _ => 0.0,
                                 }
                             }

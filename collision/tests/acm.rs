@@ -211,3 +211,34 @@ fn user_robot_matrix_loads_back_into_its_description() {
         "sampling adds pairs"
     );
 }
+
+#[test]
+fn a_mimic_finger_is_sampled_through_its_leader() {
+    // The right finger mirrors the left: the two meet only as the left
+    // closes, and the knuckle (a mimic of the right finger) stays adjacent
+    // to the finger it turns on.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../kinematics/tests/fixtures");
+    let m = RobotModel::load("mimic_gripper.yaml", &dir).unwrap();
+    let settings = AcmSettings {
+        samples: 2_000,
+        ..AcmSettings::default()
+    };
+    let acm = AllowedCollisionMatrix::derive(&m, &settings).unwrap();
+    let entry = |a: &str, b: &str| {
+        acm.pairs
+            .iter()
+            .find(|p| p.links == [a, b])
+            .unwrap_or_else(|| panic!("no pair {a} {b}"))
+    };
+    let fingers = entry("finger_left", "finger_right");
+    assert_eq!(fingers.reason, None, "{fingers:?}");
+    let (closest, touching) = (
+        fingers.min_distance.unwrap(),
+        fingers.contact_fraction.unwrap(),
+    );
+    assert!(closest < 0.002 && touching < 0.05, "{fingers:?}");
+    assert_eq!(
+        entry("finger_right", "knuckle").reason,
+        Some(afford_kinematics::AllowedReason::Adjacent)
+    );
+}

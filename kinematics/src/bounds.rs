@@ -28,6 +28,17 @@ pub const MAX_SHAPE_SIZE_M: f64 = 10.0;
 /// Smallest size of a collision shape, metres (0.1 mm).
 pub const MIN_SHAPE_SIZE_M: f64 = 1e-4;
 
+/// Largest collision mesh file read, bytes (64 MiB: a binary STL of 1.3
+/// million triangles).
+pub const MAX_MESH_FILE_BYTES: u64 = 64 << 20;
+
+/// Most vertices of a collision mesh's convex hull (a hull with more needs
+/// a simplified mesh: every distance query visits its vertices).
+pub const MAX_HULL_VERTICES: usize = 4096;
+
+/// Largest `<mimic multiplier>` magnitude.
+pub const MAX_MIMIC_MULTIPLIER: f64 = 100.0;
+
 /// Largest offset of a joint or collision `<origin xyz>`, metres per axis.
 pub const MAX_OFFSET_M: f64 = 10.0;
 

@@ -34,6 +34,31 @@ pub enum KinematicsError {
         element: String,
         problem: String,
     },
+    /// A `<collision><mesh>` cannot become a convex hull.
+    #[error("{}: link '{link}': <mesh filename=\"{mesh}\">: {problem}", file.display())]
+    Mesh {
+        /// The URDF.
+        file: PathBuf,
+        link: String,
+        /// The mesh's `filename` as the URDF writes it.
+        mesh: String,
+        problem: Box<MeshProblem>,
+    },
+    /// A `<mimic>` joint that cannot follow its leader.
+    #[error("{}: joint '{joint}': <mimic>: {problem}", file.display())]
+    Mimic {
+        /// The URDF.
+        file: PathBuf,
+        joint: String,
+        problem: MimicProblem,
+    },
+    /// The SRDF does not parse or names what the URDF does not have.
+    #[error("{}: {element}: {problem}", file.display())]
+    Srdf {
+        file: PathBuf,
+        element: String,
+        problem: String,
+    },
     /// The description YAML does not parse or does not follow the schema.
     #[error("{}: malformed robot description: {message}", file.display())]
     DescriptionSyntax { file: PathBuf, message: String },
@@ -67,6 +92,79 @@ pub enum KinematicsError {
         expected: usize,
         got: usize,
     },
+}
+
+/// Why a collision mesh was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshProblem {
+    /// The filename is not `package://NAME/path`, `file://path` or a path.
+    #[error("cannot be resolved: {reason}")]
+    BadUri { reason: String },
+    /// No folder of the package search path holds the package.
+    #[error("package '{package}' not found (searched: {})", list(searched))]
+    PackageNotFound {
+        package: String,
+        searched: Vec<PathBuf>,
+    },
+    /// The resolved file does not exist.
+    #[error("{}: no such file", path.display())]
+    Missing { path: PathBuf },
+    /// The resolved file cannot be read.
+    #[error("{}: cannot read: {message}", path.display())]
+    Unreadable { path: PathBuf, message: String },
+    /// The file's extension names no supported format.
+    #[error("{}: unknown mesh format (supported: .stl, .obj, .dae)", path.display())]
+    UnknownFormat { path: PathBuf },
+    /// The file does not parse as its format.
+    #[error("{}: malformed {format}: {message}", path.display())]
+    Malformed {
+        path: PathBuf,
+        format: &'static str,
+        message: String,
+    },
+    /// The file holds no triangle.
+    #[error("{}: the mesh has no triangles", path.display())]
+    Empty { path: PathBuf },
+    /// The `scale` or a vertex is not finite or too large.
+    #[error("{}: {reason}", path.display())]
+    OutOfBounds { path: PathBuf, reason: String },
+    /// The vertices are flat (coplanar, collinear, one point) or too many
+    /// for a convex hull.
+    #[error("{}: no usable convex hull: {reason}", path.display())]
+    DegenerateHull { path: PathBuf, reason: String },
+}
+
+/// Why a `<mimic>` joint was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MimicProblem {
+    /// The leader joint is not in the URDF.
+    #[error("leader joint '{leader}' is not defined")]
+    UnknownLeader { leader: String },
+    /// The leader joint is fixed.
+    #[error("leader joint '{leader}' is fixed")]
+    FixedLeader { leader: String },
+    /// The mimicking joint itself is fixed.
+    #[error("a fixed joint cannot mimic another")]
+    FixedFollower,
+    /// The mimic relations form a loop.
+    #[error("the mimic relations form a cycle: {}", joints.join(" -> "))]
+    Cycle { joints: Vec<String> },
+    /// `multiplier` or `offset` is not finite or too large.
+    #[error("{reason}")]
+    BadValue { reason: String },
+}
+
+fn list(paths: &[PathBuf]) -> String {
+    match paths.is_empty() {
+        true => "nothing".into(),
+        false => paths
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
 }
 
 /// Why an IK solve returned no configuration. Never a silently wrong answer.

@@ -2,6 +2,8 @@
 //!
 //! - [`RobotModel`] loads a built-in robot (`kuka_iiwa14`, `care_o_bot4`) or a
 //!   user URDF with its description YAML, and gives the pose of any link.
+//!   Collision meshes become convex hulls (`mesh`); mimic joints follow their
+//!   leaders (`mimic`).
 //! - [`Arm`] is one serial chain (base to grasp point) inside the model.
 //! - IK solves `FK(q) = target` for a 6-D pose or a top-down grasp with a
 //!   damped least-squares / Levenberg-Marquardt iteration with hard joint limits
@@ -11,6 +13,7 @@
 //! k's types stay in the `kchain` module.
 
 mod adjacency;
+mod arms;
 mod bench;
 pub mod bounds;
 mod builtin;
@@ -23,8 +26,11 @@ mod input;
 mod kchain;
 mod load;
 mod math;
+mod mesh;
+mod mimic;
 mod model;
 mod path;
+mod srdf;
 mod urdf;
 
 pub use bench::{
@@ -37,11 +43,15 @@ pub use description::{
     AllowedCollisions, AllowedPair, AllowedReason, DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT,
     Gripper, MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
 };
-pub use error::{IkFailure, KinematicsError};
+pub use error::{IkFailure, KinematicsError, MeshProblem, MimicProblem};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use input::open_regular;
 pub use kchain::KBaseline;
 pub use load::DEFAULT_JERK_RAMP_S;
 pub use math::*;
-pub use model::{Arm, Collider, Joint, JointKind, Link, RobotModel, Shape};
+pub use mesh::PackagePaths;
+pub use model::{
+    Arm, Collider, Joint, JointDrive, JointKind, Link, Mimic, MimicJoint, RobotModel, Shape,
+};
 pub use path::{JointPath, PathFailure, PathSettings, max_joint_step};
+pub use srdf::NamedPosture;

@@ -7,12 +7,12 @@ use std::path::{Path, PathBuf};
 
 use crate::bounds::{self, *};
 use crate::builtin;
-use crate::chain::{Chain, ChainJoint, Motion};
 use crate::description::{self, AllowedReason, Description};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real};
-use crate::model::{Arm, Joint, JointKind, Link, RobotModel};
-use crate::urdf::{self, Tree};
+use crate::mesh::{MeshSearch, PackagePaths};
+use crate::model::{Joint, JointDrive, JointKind, Link, MimicJoint, RobotModel};
+use crate::urdf::{self, Tree, TreeJoint};
 
 /// Jerk limit of a joint whose description and URDF give none: its
 /// acceleration limit reached from zero in this time, 0.02 s (two periods
@@ -41,8 +41,18 @@ impl RobotModel {
 
     /// A built-in name, or a path to a description `.yaml` (or to a `.urdf`
     /// with a `.yaml` of the same stem beside it). Relative paths are taken
-    /// relative to `base_dir` (the scenario's folder).
+    /// relative to `base_dir` (the scenario's folder). Meshes are searched
+    /// with [`PackagePaths::new`] and no folders of the caller's.
     pub fn load(model: &str, base_dir: &Path) -> Result<Self, KinematicsError> {
+        Self::load_with(model, base_dir, &PackagePaths::new(Vec::new()))
+    }
+
+    /// As [`Self::load`], with `package://` meshes searched in `packages`.
+    pub fn load_with(
+        model: &str,
+        base_dir: &Path,
+        packages: &PackagePaths,
+    ) -> Result<Self, KinematicsError> {
         if builtin::find(model).is_some() {
             return Self::builtin(model);
         }
@@ -55,12 +65,17 @@ impl RobotModel {
                 known: builtin::NAMES.join(", "),
             });
         }
-        Self::from_path(&path)
+        Self::from_path_with(&path, packages)
     }
 
     /// Loads a user robot from a description `.yaml`, or from a `.urdf` whose
     /// description is the `.yaml` of the same stem in the same folder.
     pub fn from_path(path: &Path) -> Result<Self, KinematicsError> {
+        Self::from_path_with(path, &PackagePaths::new(Vec::new()))
+    }
+
+    /// As [`Self::from_path`], with `package://` meshes searched in `packages`.
+    pub fn from_path_with(path: &Path, packages: &PackagePaths) -> Result<Self, KinematicsError> {
         let description_path = if path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
@@ -82,37 +97,28 @@ impl RobotModel {
         } else {
             path.to_path_buf()
         };
-        let read = |p: &Path| {
-            use std::io::Read;
-            let io = |source| KinematicsError::Io {
-                file: p.to_path_buf(),
-                source,
-            };
-            // One byte more than allowed: the parsers refuse a larger file.
-            let mut text = String::new();
-            crate::open_regular(p)
-                .map_err(io)?
-                .take(MAX_FILE_BYTES + 1)
-                .read_to_string(&mut text)
-                .map_err(io)?;
-            Ok(text)
-        };
-        let description_text = read(&description_path)?;
+        let description_text = read_text(&description_path)?;
         let description = parse_description(&description_text, &description_path)?;
         let urdf_path = description_path
             .parent()
             .unwrap_or_else(|| Path::new("."))
             .join(&description.urdf);
-        let urdf_text = read(&urdf_path)?;
-        let tree = urdf::parse(&urdf_text, &urdf_path)?;
+        let urdf_text = read_text(&urdf_path)?;
+        let search = MeshSearch {
+            urdf_dir: urdf_path.parent().unwrap_or_else(|| Path::new(".")),
+            packages,
+        };
+        let tree = urdf::parse(&urdf_text, &urdf_path, search)?;
         let mut model = assemble(&tree, &description, &description_path)?;
+        attach_srdf(&mut model, &description, &description_path)?;
         model.source = description_path.display().to_string();
         model.urdf = urdf_text.into();
         Ok(model)
     }
 
-    /// Builds a model from description YAML and URDF text; the paths only name
-    /// the files in error messages.
+    /// Builds a model from description YAML and URDF text; the paths name
+    /// the files in error messages, and meshes are looked for from the URDF
+    /// path's folder (as [`Self::load`] does).
     pub fn from_texts(
         description_yaml: &str,
         description_file: &Path,
@@ -120,12 +126,48 @@ impl RobotModel {
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
         let description = parse_description(description_yaml, description_file)?;
-        let tree = urdf::parse(urdf_text, urdf_file)?;
+        let packages = PackagePaths::new(Vec::new());
+        let search = MeshSearch {
+            urdf_dir: urdf_file.parent().unwrap_or_else(|| Path::new(".")),
+            packages: &packages,
+        };
+        let tree = urdf::parse(urdf_text, urdf_file, search)?;
         let mut model = assemble(&tree, &description, description_file)?;
+        attach_srdf(&mut model, &description, description_file)?;
         model.source = description_file.display().to_string();
         model.urdf = urdf_text.into();
         Ok(model)
     }
+}
+
+/// A robot file's text: a regular file of at most [`MAX_FILE_BYTES`] (one
+/// byte more is read, so that the parsers refuse a larger file).
+pub(crate) fn read_text(p: &Path) -> Result<String, KinematicsError> {
+    use std::io::Read;
+    let io = |source| KinematicsError::Io {
+        file: p.to_path_buf(),
+        source,
+    };
+    let mut text = String::new();
+    crate::open_regular(p)
+        .map_err(io)?
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(io)?;
+    Ok(text)
+}
+
+/// Reads the description's SRDF, if it names one, into `model`.
+fn attach_srdf(
+    model: &mut RobotModel,
+    d: &Description,
+    description_file: &Path,
+) -> Result<(), KinematicsError> {
+    let Some(srdf) = &d.srdf else {
+        return Ok(());
+    };
+    let dir = description_file.parent().unwrap_or_else(|| Path::new("."));
+    crate::srdf::attach(model, &dir.join(srdf))
 }
 
 /// Parses a description after checking its size ([`MAX_FILE_BYTES`]).
@@ -143,7 +185,7 @@ fn parse_description(text: &str, file: &Path) -> Result<Description, KinematicsE
 /// True when a joint value (`home`, `park`) is finite and within the bound
 /// of its kind: [`MAX_PRISMATIC_LIMIT_M`] or [`MAX_REVOLUTE_LIMIT_RAD`]
 /// (continuous joints too, which have no limits of their own).
-fn value_in_bounds(kind: JointKind, v: Real) -> bool {
+pub(crate) fn value_in_bounds(kind: JointKind, v: Real) -> bool {
     let largest = match kind {
         JointKind::Prismatic => MAX_PRISMATIC_LIMIT_M,
         _ => MAX_REVOLUTE_LIMIT_RAD,
@@ -164,51 +206,26 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         bounds::check_range("the size", value, (0.0, MAX_GRIPPER_SIZE_M))
             .map_err(|problem| err(format!("gripper.{name}"), problem))?;
     }
-    // Movable joints in tree order form the configuration.
+    // Movable joints in tree order form the configuration; mimic joints
+    // follow one of them.
     let mut joints = Vec::new();
+    for j in tree.links.iter().filter_map(|l| l.joint.as_ref()) {
+        if j.kind != JointKind::Fixed && j.resolved.is_none() {
+            joints.push(configuration_joint(j, d, &err)?);
+        }
+    }
+    if joints.len() > MAX_MOVABLE_JOINTS {
+        return Err(err(
+            "urdf".into(),
+            format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
+        ));
+    }
+    let mut mimics = Vec::new();
     let mut links = Vec::with_capacity(tree.links.len());
     for tl in &tree.links {
         let (origin, joint) = match &tl.joint {
             None => (Pose::identity(), None),
-            Some(j) if j.kind == JointKind::Fixed => (j.origin, None),
-            Some(j) => {
-                let acceleration = match d.acceleration_limits.get(&j.name) {
-                    Some(&a) => a,
-                    None => j.acceleration,
-                };
-                if !(acceleration.is_finite() && acceleration > 0.0) {
-                    return Err(err(
-                        format!("acceleration_limits.{}", j.name),
-                        "missing or not positive: give a limit here or in the URDF <limit acceleration=..>".into(),
-                    ));
-                }
-                bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
-                    .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
-                let jerk = match (d.jerk_limits.get(&j.name), j.jerk.is_finite()) {
-                    (Some(&jerk), _) => jerk,
-                    (None, true) => j.jerk,
-                    (None, false) => acceleration / DEFAULT_JERK_RAMP_S,
-                };
-                bounds::check_range("the limit", jerk, JERK_LIMIT_RANGE)
-                    .map_err(|problem| err(format!("jerk_limits.{}", j.name), problem))?;
-                if joints.len() == MAX_MOVABLE_JOINTS {
-                    return Err(err(
-                        "urdf".into(),
-                        format!("the robot has more than {MAX_MOVABLE_JOINTS} movable joints"),
-                    ));
-                }
-                joints.push(Joint {
-                    name: j.name.clone(),
-                    kind: j.kind,
-                    lower: j.lower,
-                    upper: j.upper,
-                    velocity: j.velocity,
-                    acceleration,
-                    jerk,
-                    effort: j.effort,
-                });
-                (j.origin, Some((joints.len() - 1, j.axis, j.kind)))
-            }
+            Some(j) => (j.origin, drive(j, &joints, &mut mimics)),
         };
         links.push(Link {
             name: tl.name.clone(),
@@ -225,10 +242,14 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         ("jerk_limits", &d.jerk_limits),
     ] {
         if let Some(name) = map.keys().find(|n| joint_index(n).is_none()) {
-            return Err(err(
-                format!("{section}.{name}"),
-                "is not a movable joint of the URDF".into(),
-            ));
+            let problem = match mimics.iter().find(|m| &m.name == name) {
+                Some(m) => format!(
+                    "is a mimic joint (it follows '{}'): give its leader's value",
+                    m.leader
+                ),
+                None => "is not a movable joint of the URDF".into(),
+            };
+            return Err(err(format!("{section}.{name}"), problem));
         }
     }
     let mut home = Vec::with_capacity(joints.len());
@@ -246,140 +267,16 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         }
         home.push(v);
     }
-    let link_index = |name: &str| links.iter().position(|l| l.name == name);
-    let mut arms = Vec::with_capacity(d.arms.len());
-    for (ai, ad) in d.arms.iter().enumerate() {
-        let at = |field: &str| format!("arms[{ai}].{field}");
-        let root = link_index(&ad.root)
-            .ok_or_else(|| err(at("root"), format!("link '{}' is not in the URDF", ad.root)))?;
-        let tool = link_index(&ad.tool)
-            .ok_or_else(|| err(at("tool"), format!("link '{}' is not in the URDF", ad.tool)))?;
-        // Path tool -> root.
-        let mut path = Vec::new();
-        let mut cur = tool;
-        while cur != root {
-            path.push(cur);
-            cur = links[cur].parent.ok_or_else(|| {
-                err(
-                    at("tool"),
-                    format!(
-                        "link '{}' does not hang below root link '{}'",
-                        ad.tool, ad.root
-                    ),
-                )
-            })?;
-        }
-        path.reverse();
-        // Root must be fixed to the robot base.
-        let mut base = Pose::identity();
-        let mut up = Some(root);
-        while let Some(i) = up {
-            if let Some((ci, _, _)) = links[i].joint {
-                return Err(err(
-                    at("root"),
-                    format!(
-                        "link '{}' moves with joint '{}'; start the arm lower or list that joint among its joints",
-                        ad.root, joints[ci].name
-                    ),
-                ));
-            }
-            base = links[i].origin * base;
-            up = links[i].parent;
-        }
-        let movable: Vec<usize> = path
-            .iter()
-            .filter_map(|&l| links[l].joint.map(|(ci, _, _)| ci))
-            .collect();
-        let listed: Vec<usize> = ad
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(k, n)| {
-                joint_index(n).ok_or_else(|| {
-                    err(
-                        format!("arms[{ai}].joints[{k}]"),
-                        format!("'{n}' is not a movable joint of the URDF"),
-                    )
-                })
-            })
-            .collect::<Result<_, _>>()?;
-        if listed != movable {
-            let names: Vec<&str> = movable.iter().map(|&i| joints[i].name.as_str()).collect();
-            return Err(err(
-                at("joints"),
-                format!(
-                    "must list the movable joints from '{}' to '{}' in order: [{}]",
-                    ad.root,
-                    ad.tool,
-                    names.join(", ")
-                ),
-            ));
-        }
-        if listed.len() > crate::chain::MAX_DOF {
-            return Err(err(
-                at("joints"),
-                format!(
-                    "at most {} joints per arm are supported",
-                    crate::chain::MAX_DOF
-                ),
-            ));
-        }
-        // Fold fixed transforms into the next movable joint's origin.
-        let mut chain_joints = Vec::with_capacity(listed.len());
-        let mut pending = base;
-        for &l in &path {
-            let link = &links[l];
-            pending *= link.origin;
-            if let Some((_, axis, kind)) = link.joint {
-                chain_joints.push(ChainJoint {
-                    origin: pending,
-                    axis,
-                    motion: if kind == JointKind::Prismatic {
-                        Motion::Prismatic
-                    } else {
-                        Motion::Revolute
-                    },
-                });
-                pending = Pose::identity();
-            }
-        }
-        let chain = Chain {
-            joints: chain_joints,
-            tool: pending,
-        };
-        let lower: Vec<Real> = listed.iter().map(|&i| joints[i].lower).collect();
-        let upper: Vec<Real> = listed.iter().map(|&i| joints[i].upper).collect();
-        let mut park = Vec::with_capacity(ad.park.len());
-        for (name, &v) in &ad.park {
-            let i = joint_index(name).ok_or_else(|| {
-                err(
-                    format!("arms[{ai}].park.{name}"),
-                    "is not a movable joint of the URDF".into(),
-                )
-            })?;
-            if !joints[i].within(v, 1e-9) || !value_in_bounds(joints[i].kind, v) {
-                return Err(err(
-                    format!("arms[{ai}].park.{name}"),
-                    format!("{v} is outside the joint limits"),
-                ));
-            }
-            park.push((i, v));
-        }
-        let reach = chain.reach_bound(&upper, &lower);
-        arms.push(Arm {
-            name: ad.name.clone(),
-            root_link: ad.root.clone(),
-            tool_link: ad.tool.clone(),
-            joint_names: ad.joints.clone(),
-            home: listed.iter().map(|&i| home[i]).collect(),
-            joint_indices: listed,
-            lower,
-            upper,
-            park,
-            reach,
-            chain,
-        });
-    }
+    let robot = crate::arms::Robot {
+        tree,
+        links: &links,
+        joints: &joints,
+        home: &home,
+        err: &err,
+    };
+    let arms = (d.arms.iter().enumerate())
+        .map(|(ai, ad)| robot.arm(ai, ad))
+        .collect::<Result<Vec<_>, _>>()?;
     let self_collision_skip = allowed_pairs(&links, d, &err)?;
     for (k, finger) in d.gripper.fingers.iter().enumerate() {
         if !names_a_collider(&links, finger) {
@@ -396,12 +293,86 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         source: String::new(),
         links,
         joints,
+        mimics,
         arms,
         home,
         gripper: d.gripper.clone(),
         self_collision_skip,
         allowed_collisions: d.allowed_collisions.clone(),
+        postures: Vec::new(),
         urdf: "".into(),
+    })
+}
+
+/// A configuration joint from its URDF joint, with the description's
+/// acceleration and jerk limits (or the URDF's, or the default jerk).
+fn configuration_joint(
+    j: &TreeJoint,
+    d: &Description,
+    err: &impl Fn(String, String) -> KinematicsError,
+) -> Result<Joint, KinematicsError> {
+    let acceleration = match d.acceleration_limits.get(&j.name) {
+        Some(&a) => a,
+        None => j.acceleration,
+    };
+    if !(acceleration.is_finite() && acceleration > 0.0) {
+        return Err(err(
+            format!("acceleration_limits.{}", j.name),
+            "missing or not positive: give a limit here or in the URDF <limit acceleration=..>"
+                .into(),
+        ));
+    }
+    bounds::check_range("the limit", acceleration, ACCELERATION_LIMIT_RANGE)
+        .map_err(|problem| err(format!("acceleration_limits.{}", j.name), problem))?;
+    let jerk = match (d.jerk_limits.get(&j.name), j.jerk.is_finite()) {
+        (Some(&jerk), _) => jerk,
+        (None, true) => j.jerk,
+        (None, false) => acceleration / DEFAULT_JERK_RAMP_S,
+    };
+    bounds::check_range("the limit", jerk, JERK_LIMIT_RANGE)
+        .map_err(|problem| err(format!("jerk_limits.{}", j.name), problem))?;
+    Ok(Joint {
+        name: j.name.clone(),
+        kind: j.kind,
+        lower: j.lower,
+        upper: j.upper,
+        velocity: j.velocity,
+        acceleration,
+        jerk,
+        effort: j.effort,
+    })
+}
+
+/// What drives the URDF joint `j` (`None`: fixed); a mimic joint is added
+/// to `mimics`. Its configuration joint is in `joints` (the URDF's mimic
+/// chains were resolved to one).
+fn drive(j: &TreeJoint, joints: &[Joint], mimics: &mut Vec<MimicJoint>) -> Option<JointDrive> {
+    if j.kind == JointKind::Fixed {
+        return None;
+    }
+    let index = |name: &str| joints.iter().position(|c| c.name == name);
+    let Some(r) = &j.resolved else {
+        return Some(JointDrive {
+            joint: index(&j.name)?,
+            axis: j.axis,
+            kind: j.kind,
+            mimic: None,
+        });
+    };
+    let joint = index(&r.root)?;
+    mimics.push(MimicJoint {
+        name: j.name.clone(),
+        leader: r.leader.clone(),
+        joint,
+        mimic: r.mimic,
+        lower: j.lower,
+        upper: j.upper,
+    });
+    Some(JointDrive {
+        joint,
+        axis: j.axis,
+        kind: j.kind,
+        mimic: Some(r.mimic),
     })
 }
 

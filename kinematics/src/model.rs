@@ -1,7 +1,11 @@
 //! The robot model: links, movable joints, arms, home and park postures, and
 //! forward kinematics of any link. A robot configuration is one `Vec<f64>`
 //! over all movable joints in [`RobotModel::joints`] order; an arm reads and
-//! writes its own slice of it through [`Arm::joint_indices`].
+//! writes its own slice of it through [`Arm::joint_indices`]. A mimic joint
+//! is not in it: the links below it are posed with the value derived from
+//! its leader ([`JointDrive::position`]).
+
+use std::sync::Arc;
 
 use nalgebra::{Translation3, UnitQuaternion};
 use serde::Serialize;
@@ -58,8 +62,8 @@ impl Joint {
     }
 }
 
-/// A collision primitive in its link's frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A collision shape in its link's frame.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// Box centred at the origin.
     Box {
@@ -78,10 +82,15 @@ pub enum Shape {
     Sphere {
         radius: Real,
     },
+    /// The convex hull of a `<mesh>`: its vertices (scaled, in the shape
+    /// frame), each a corner of the hull (see the `mesh` module).
+    ConvexHull {
+        vertices: Arc<[Vec3]>,
+    },
 }
 
 /// A collision shape placed in its link frame (`pose_link_shape`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Collider {
     pub origin: Pose,
     pub shape: Shape,
@@ -96,8 +105,69 @@ pub struct Link {
     pub colliders: Vec<Collider>,
     /// Pose of the joint frame above this link in the parent link frame.
     pub(crate) origin: Pose,
-    /// Movable joint above this link: index into the configuration, unit axis.
-    pub(crate) joint: Option<(usize, Vec3, JointKind)>,
+    /// Movable joint above this link and what drives it.
+    pub(crate) joint: Option<JointDrive>,
+}
+
+impl Link {
+    /// The movable joint above this link (`None`: fixed to its parent).
+    pub fn drive(&self) -> Option<JointDrive> {
+        self.joint
+    }
+}
+
+/// The movable joint above a link: its own kind and axis, and the
+/// configuration value that drives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointDrive {
+    /// Index into the configuration ([`RobotModel::joints`]) of the driving
+    /// joint: the joint itself, or a mimic joint's (ultimate) leader.
+    pub joint: usize,
+    /// Unit axis in the joint frame.
+    pub axis: Vec3,
+    /// This joint's own kind (a mimic joint's may differ from its leader's).
+    pub kind: JointKind,
+    /// `Some` for a mimic joint: its position is `multiplier * q[joint] + offset`.
+    pub mimic: Option<Mimic>,
+}
+
+impl JointDrive {
+    /// The joint's position in configuration `q`.
+    #[inline]
+    pub fn position(&self, q: &[Real]) -> Real {
+        match self.mimic {
+            None => q[self.joint],
+            Some(m) => m.multiplier * q[self.joint] + m.offset,
+        }
+    }
+
+    /// How far the joint moves per unit of its driving value (|multiplier|;
+    /// 1 for a joint of the configuration).
+    pub fn gain(&self) -> Real {
+        self.mimic.map_or(1.0, |m| m.multiplier.abs())
+    }
+}
+
+/// A `<mimic>` relation resolved to a configuration joint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mimic {
+    pub multiplier: Real,
+    pub offset: Real,
+}
+
+/// A joint that follows another (`<mimic>`): not part of the configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MimicJoint {
+    pub name: String,
+    /// The joint named in `<mimic joint=..>`.
+    pub leader: String,
+    /// The configuration joint at the end of the mimic chain, and the
+    /// composed relation: `position = multiplier * q[joint] + offset`.
+    pub joint: usize,
+    pub mimic: Mimic,
+    /// The joint's own `<limit>` (not enforced: planning limits the leader).
+    pub lower: Real,
+    pub upper: Real,
 }
 
 /// One serial arm of a robot: root link to tool (grasp point) link.
@@ -185,11 +255,14 @@ pub struct RobotModel {
     pub(crate) source: String,
     pub(crate) links: Vec<Link>,
     pub(crate) joints: Vec<Joint>,
+    pub(crate) mimics: Vec<MimicJoint>,
     pub(crate) arms: Vec<Arm>,
     pub(crate) home: Vec<Real>,
     pub(crate) gripper: Gripper,
     pub(crate) self_collision_skip: Vec<(usize, usize)>,
     pub(crate) allowed_collisions: Option<AllowedCollisions>,
+    /// The SRDF's `group_state`s.
+    pub(crate) postures: Vec<crate::srdf::NamedPosture>,
     /// The URDF text the model was built from.
     pub(crate) urdf: std::sync::Arc<str>,
 }
@@ -219,6 +292,12 @@ impl RobotModel {
     /// Movable joints, in configuration order.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
+    }
+
+    /// Joints that follow another (`<mimic>`), in tree order; none of them
+    /// is in [`Self::joints`].
+    pub fn mimic_joints(&self) -> &[MimicJoint] {
+        &self.mimics
     }
 
     /// Degrees of freedom of the whole robot.
@@ -252,6 +331,22 @@ impl RobotModel {
         &self.home
     }
 
+    /// The postures the SRDF names (`group_state`), in its order.
+    pub fn named_postures(&self) -> &[crate::srdf::NamedPosture] {
+        &self.postures
+    }
+
+    /// The robot configuration of a named posture: home, with the posture's
+    /// joints set; `None` when no posture has that name.
+    pub fn posture(&self, name: &str) -> Option<Vec<Real>> {
+        let posture = self.postures.iter().find(|p| p.name == name)?;
+        let mut q = self.home.clone();
+        for &(i, v) in &posture.values {
+            q[i] = v;
+        }
+        Some(q)
+    }
+
     pub fn gripper(&self) -> &Gripper {
         &self.gripper
     }
@@ -263,7 +358,8 @@ impl RobotModel {
     }
 
     /// Link index pairs never checked for self-collision (smaller index first):
-    /// the adjacent pairs and the description's `allowed_collisions`.
+    /// the adjacent pairs, the description's `allowed_collisions` and the
+    /// SRDF's `disable_collisions`.
     pub fn self_collision_skip(&self) -> &[(usize, usize)] {
         &self.self_collision_skip
     }
@@ -339,16 +435,19 @@ impl RobotModel {
 }
 
 #[inline]
-fn motion(joint: Option<(usize, Vec3, JointKind)>, q: &[Real]) -> Pose {
-    match joint {
-        None => Pose::identity(),
-        Some((i, axis, JointKind::Prismatic)) => {
-            Pose::from_parts(Translation3::from(axis * q[i]), UnitQuaternion::identity())
-        }
-        Some((_, _, JointKind::Fixed)) => Pose::identity(),
-        Some((i, axis, _)) => Pose::from_parts(
+fn motion(joint: Option<JointDrive>, q: &[Real]) -> Pose {
+    let Some(d) = joint else {
+        return Pose::identity();
+    };
+    match d.kind {
+        JointKind::Prismatic => Pose::from_parts(
+            Translation3::from(d.axis * d.position(q)),
+            UnitQuaternion::identity(),
+        ),
+        JointKind::Fixed => Pose::identity(),
+        _ => Pose::from_parts(
             Translation3::identity(),
-            UnitQuaternion::from_scaled_axis(axis * q[i]),
+            UnitQuaternion::from_scaled_axis(d.axis * d.position(q)),
         ),
     }
 }

@@ -1,7 +1,7 @@
 //! URDF at the edge: the only module that touches urdf-rs. Parses a URDF
 //! string into a validated kinematic tree (links in parent-before-child order,
-//! movable joints, collision primitives) and names the element at fault when
-//! something is wrong.
+//! movable joints with their `<mimic>`, collision shapes, meshes through
+//! `mesh`) and names the element at fault when something is wrong.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -9,6 +9,7 @@ use std::path::Path;
 use crate::bounds::{self, *};
 use crate::error::KinematicsError;
 use crate::math::{Pose, Real, Vec3, pose_from_xyz_rpy};
+use crate::mesh::{self, MeshSearch};
 use crate::model::{Collider, JointKind, Shape};
 
 /// One link of the parsed tree.
@@ -40,6 +41,10 @@ pub(crate) struct TreeJoint {
     pub acceleration: Real,
     /// URDF 1.2 jerk limit (infinite when absent).
     pub jerk: Real,
+    /// `<mimic>`: the leader's name, multiplier and offset (as written).
+    pub mimic: Option<(String, Real, Real)>,
+    /// The mimic chain followed to a configuration joint (`mimic::resolve`).
+    pub resolved: Option<crate::mimic::Resolved>,
 }
 
 /// A parsed URDF: its links, root first.
@@ -75,8 +80,13 @@ fn check_origin(xyz: &[Real; 3], rpy: &[Real; 3]) -> Result<(), String> {
     Ok(())
 }
 
-/// Parses and validates URDF text; `file` is only used in error messages.
-pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
+/// Parses and validates URDF text; `file` names the URDF in error messages,
+/// `search` says where its meshes are.
+pub(crate) fn parse(
+    text: &str,
+    file: &Path,
+    search: MeshSearch<'_>,
+) -> Result<Tree, KinematicsError> {
     bounds::check_file_size(text.len() as u64)
         .map_err(|problem| element_error(file, "<robot>".into(), problem))?;
     let robot = urdf_rs::read_from_string(text).map_err(|e| KinematicsError::UrdfSyntax {
@@ -209,7 +219,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
             .collision
             .iter()
             .enumerate()
-            .map(|(ci, c)| collider(c, file, &link.name, ci))
+            .map(|(ci, c)| collider(c, file, &link.name, ci, search))
             .collect::<Result<Vec<_>, _>>()?;
         let (parent, joint) = match parent_joint[li] {
             None => (None, None),
@@ -226,6 +236,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Tree, KinematicsError> {
             colliders,
         });
     }
+    crate::mimic::resolve(&mut links, file)?;
     Ok(Tree { links })
 }
 
@@ -312,13 +323,6 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
             ));
         }
     }
-    if j.mimic.is_some() {
-        return Err(element_error(
-            file,
-            el(),
-            "<mimic> joints are not supported",
-        ));
-    }
     Ok(TreeJoint {
         name: j.name.clone(),
         origin: pose_from_xyz_rpy(xyz, rpy),
@@ -330,6 +334,14 @@ fn tree_joint(j: &urdf_rs::Joint, file: &Path) -> Result<TreeJoint, KinematicsEr
         effort: lim.effort,
         acceleration: lim.acceleration,
         jerk: lim.jerk,
+        mimic: j.mimic.as_ref().map(|m| {
+            (
+                m.joint.clone(),
+                m.multiplier.unwrap_or(1.0),
+                m.offset.unwrap_or(0.0),
+            )
+        }),
+        resolved: None,
     })
 }
 
@@ -338,6 +350,7 @@ fn collider(
     file: &Path,
     link: &str,
     index: usize,
+    search: MeshSearch<'_>,
 ) -> Result<Collider, KinematicsError> {
     let el = || format!("link '{link}' <collision> #{}", index + 1);
     let (xyz, rpy) = (c.origin.xyz.0, c.origin.rpy.0);
@@ -366,14 +379,17 @@ fn collider(
         urdf_rs::Geometry::Sphere { radius } if positive(*radius) => {
             Shape::Sphere { radius: *radius }
         }
-        urdf_rs::Geometry::Mesh { filename, .. } => {
-            return Err(element_error(
-                file,
-                el(),
-                format!(
-                    "<mesh filename=\"{filename}\"> is not supported for collision; use box, cylinder, sphere or capsule"
-                ),
-            ));
+        urdf_rs::Geometry::Mesh { filename, scale } => {
+            let scale = scale.map_or([1.0; 3], |s| s.0);
+            let vertices = mesh::convex_hull(filename, scale, search).map_err(|problem| {
+                KinematicsError::Mesh {
+                    file: file.to_path_buf(),
+                    link: link.to_string(),
+                    mesh: filename.clone(),
+                    problem: Box::new(problem),
+                }
+            })?;
+            Shape::ConvexHull { vertices }
         }
         _ => {
             return Err(element_error(

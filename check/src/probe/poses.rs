@@ -19,7 +19,7 @@ use crate::scene::{Footprint, GOAL_WALL, Piece};
 pub(super) fn gripper_reach(r: &Robot, arms: &[ArmIk]) -> (f64, f64) {
     let links = r.kin.link_poses(r.model.home());
     let moved_by = |link: usize| {
-        let mut j: Vec<usize> = r.kin.ancestry(link).iter().map(|&(j, _)| j).collect();
+        let mut j: Vec<usize> = r.kin.ancestry(link).iter().map(|a| a.slot).collect();
         j.sort_unstable();
         j
     };

@@ -19,9 +19,18 @@
 //! bound reaches `d`. For two robot bodies only the joints above one but not
 //! both count: a shared joint moves both rigidly and leaves their distance
 //! unchanged.
+//!
+//! Mimic joints. A configuration joint `j` drives every joint that mimics it,
+//! each at `|multiplier|` times its rate, so `r[j][B]` sums, over the
+//! joints above `B` that `j` drives, `|multiplier|` times that joint's own
+//! bound; a prismatic mimic joint's travel is its leader's scaled the same
+//! way. A configuration joint that drives several joints may move two
+//! bodies differently even when it is above both, so for such a joint the
+//! pair's coefficient is the sum of both bodies' (never 0).
 
-use afford_kinematics::{JointKind, Pose, RobotModel};
+use afford_kinematics::{JointDrive, JointKind, Pose, RobotModel};
 use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3};
+use parry3d::math::Vector as PVec;
 use parry3d::shape::SharedShape;
 
 use crate::error::{CollisionError, path_err};
@@ -107,9 +116,13 @@ pub struct RobotGeometry {
     pub(crate) model: RobotModel,
     pub(crate) bodies: Vec<Body>,
     pub(crate) link_ancestors: Vec<u128>,
-    /// Link whose frame the joint moves (its child link), per joint.
-    pub(crate) joint_child: Vec<usize>,
-    /// Joint origins (base frame) at the reference configuration.
+    /// Bit j set when configuration joint j drives more than one joint
+    /// (it has mimic joints).
+    pub(crate) multi_drive: u128,
+    /// Bit j set when configuration joint j drives a prismatic mimic joint
+    /// (its limits bound that joint's travel, as a prismatic joint's own do).
+    drives_prismatic: u128,
+    /// Link poses (base frame) at the reference configuration.
     ref_poses: Vec<Pose>,
     /// Body pairs (indices, smaller first) checked for self-collision.
     pub(crate) self_pairs: Vec<(usize, usize)>,
@@ -126,33 +139,42 @@ impl RobotGeometry {
         let ref_poses = model.link_poses(&q0)?;
         // Which links each joint moves: perturb it and compare poses.
         let mut link_ancestors = vec![0u128; model.links().len()];
-        let mut joint_child = vec![0usize; dof];
         for j in 0..dof {
             let mut q = q0.clone();
             q[j] += 0.25;
             let moved = model.link_poses(&q)?;
-            let mut first = None;
             for (i, (a, b)) in ref_poses.iter().zip(&moved).enumerate() {
                 let (dp, dr) = afford_kinematics::pose_distance(a, b);
                 if dp > 1e-12 || dr > 1e-12 {
                     link_ancestors[i] |= 1 << j;
-                    first.get_or_insert(i);
                 }
             }
-            joint_child[j] = first.unwrap_or(0);
         }
+        let multi_drive = model
+            .mimic_joints()
+            .iter()
+            .fold(0u128, |bits, m| bits | 1 << m.joint);
         let mut geometry = Self {
             model: model.clone(),
             bodies: Vec::new(),
             link_ancestors,
-            joint_child,
+            multi_drive,
+            drives_prismatic: (model.links().iter())
+                .filter_map(|l| l.drive())
+                .filter(|d| d.mimic.is_some() && d.kind == JointKind::Prismatic)
+                .fold(0u128, |bits, d| bits | 1 << d.joint),
             ref_poses,
             self_pairs: Vec::new(),
         };
         for (li, link) in model.links().iter().enumerate() {
             let several = link.colliders.len() > 1;
             for (ci, c) in link.colliders.iter().enumerate() {
-                let (shape, fix) = parry_shape(&c.shape);
+                let (shape, fix) = parry_shape(&c.shape).ok_or_else(|| {
+                    path_err(
+                        format!("robot link '{}'", link.name),
+                        "parry builds no convex polyhedron from its mesh hull",
+                    )
+                })?;
                 let pose_link_shape = c.origin * fix;
                 let name = if several {
                     format!("{}#{ci}", link.name)
@@ -207,25 +229,26 @@ impl RobotGeometry {
         let centre_link =
             pose_link_shape * Point3::new(centre_shape.x, centre_shape.y, centre_shape.z);
         let centre_base = self.ref_poses[link] * centre_link;
-        let mut chain: Vec<usize> = (0..self.model.dof())
-            .filter(|&j| ancestors & (1 << j) != 0)
-            .collect();
-        chain.sort_by_key(|&j| self.joint_child[j]);
+        let links = self.model.links();
+        let origin = |l: usize| self.ref_poses[l].translation.vector;
         let mut radii = vec![0.0; self.model.dof()];
-        let origin = |j: usize| self.ref_poses[self.joint_child[j]].translation.vector;
         let mut acc = sphere.radius();
-        let mut below: Option<usize> = None;
-        for &j in chain.iter().rev() {
-            acc += match below {
-                None => (centre_base.coords - origin(j)).norm(),
-                Some(k) => (origin(k) - origin(j)).norm() + self.prismatic_travel(k),
-            };
-            radii[j] = if self.model.joints()[j].kind == JointKind::Prismatic {
-                1.0
-            } else {
-                acc
-            };
-            below = Some(j);
+        let mut below: Option<(usize, JointDrive)> = None;
+        let mut up = Some(link);
+        while let Some(l) = up {
+            if let Some(drive) = links[l].drive() {
+                acc += match below {
+                    None => (centre_base.coords - origin(l)).norm(),
+                    Some((k, d)) => (origin(k) - origin(l)).norm() + self.prismatic_travel(d),
+                };
+                radii[drive.joint] += drive.gain()
+                    * match drive.kind {
+                        JointKind::Prismatic => 1.0,
+                        _ => acc,
+                    };
+                below = Some((l, drive));
+            }
+            up = links[l].parent;
         }
         Body {
             link,
@@ -238,18 +261,20 @@ impl RobotGeometry {
     }
 
     /// How far a prismatic joint's child origin can be from where it is at the
-    /// reference configuration (0 for revolute joints).
-    fn prismatic_travel(&self, j: usize) -> f64 {
-        let joint = &self.model.joints()[j];
-        if joint.kind != JointKind::Prismatic {
+    /// reference configuration (0 for revolute joints; a mimic joint's is
+    /// its leader's times the multiplier).
+    fn prismatic_travel(&self, drive: JointDrive) -> f64 {
+        if drive.kind != JointKind::Prismatic {
             return 0.0;
         }
-        let h = self.model.home()[j];
-        (joint.lower - h).abs().max((joint.upper - h).abs())
+        let joint = &self.model.joints()[drive.joint];
+        let h = self.model.home()[drive.joint];
+        drive.gain() * (joint.lower - h).abs().max((joint.upper - h).abs())
     }
 
-    /// Checks a robot configuration's length and values (prismatic joints must
-    /// stay inside their limits for the motion bound to hold).
+    /// Checks a robot configuration's length and values (prismatic joints,
+    /// and the leaders of prismatic mimic joints, must stay inside their
+    /// limits for the motion bound to hold).
     pub(crate) fn check_config(&self, q: &[f64], field: &str) -> Result<(), CollisionError> {
         if q.len() != self.model.dof() {
             return Err(path_err(
@@ -271,6 +296,15 @@ impl RobotGeometry {
                     format!("prismatic joint '{}' outside its limits", joint.name),
                 ));
             }
+            if self.drives_prismatic & 1 << j != 0 && !joint.within(*v, 1e-9) {
+                return Err(path_err(
+                    field,
+                    format!(
+                        "joint '{}' (leader of a prismatic mimic joint) outside its limits",
+                        joint.name
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -287,10 +321,11 @@ impl RobotGeometry {
 }
 
 /// parry shape for a kinematics shape, and the fix-up pose (parry cylinders
-/// are along local y; the description's are along z).
-fn parry_shape(shape: &afford_kinematics::Shape) -> (SharedShape, Pose) {
+/// are along local y; the description's are along z). A mesh hull is
+/// rebuilt from its vertices (`None` if parry refuses them).
+fn parry_shape(shape: &afford_kinematics::Shape) -> Option<(SharedShape, Pose)> {
     use afford_kinematics::Shape as S;
-    match *shape {
+    Some(match *shape {
         S::Box { half_extents } => (
             SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
             Pose::identity(),
@@ -313,5 +348,12 @@ fn parry_shape(shape: &afford_kinematics::Shape) -> (SharedShape, Pose) {
             Pose::identity(),
         ),
         S::Sphere { radius } => (SharedShape::ball(radius), Pose::identity()),
-    }
+        S::ConvexHull { ref vertices } => {
+            let points: Vec<PVec> = vertices.iter().map(|v| PVec::new(v.x, v.y, v.z)).collect();
+            (SharedShape::convex_hull(&points)?, Pose::identity())
+        }
+    })
 }
+
+#[cfg(test)]
+mod tests;
