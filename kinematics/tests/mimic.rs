@@ -171,18 +171,24 @@ fn a_mimic_leader_must_exist_and_move() {
     );
 }
 
-#[test]
-fn a_mimic_joint_is_not_a_joint_of_the_description() {
+/// The load error of the mimic gripper with `from` replaced by `to` in its
+/// description.
+fn description_refusal(from: &str, to: &str) -> String {
     let yaml = std::fs::read_to_string(fixtures().join("mimic_gripper.yaml")).unwrap();
     let urdf = std::fs::read_to_string(fixtures().join("mimic_gripper.urdf")).unwrap();
-    let e = RobotModel::from_texts(
-        &yaml.replace("{finger_left_joint: 0.02}", "{finger_right_joint: 0.02}"),
+    RobotModel::from_texts(
+        &yaml.replace(from, to),
         Path::new("mimic_gripper.yaml"),
         &urdf,
         Path::new("mimic_gripper.urdf"),
     )
-    .unwrap_err();
-    let message = e.to_string();
+    .unwrap_err()
+    .to_string()
+}
+
+#[test]
+fn a_mimic_joint_is_not_a_joint_of_the_description() {
+    let message = description_refusal("{finger_left_joint: 0.02}", "{finger_right_joint: 0.02}");
     assert!(
         message.contains("home.finger_right_joint") && message.contains("mimic"),
         "{message}"
@@ -191,16 +197,7 @@ fn a_mimic_joint_is_not_a_joint_of_the_description() {
 
 #[test]
 fn an_arm_through_a_mimic_joint_is_refused() {
-    let yaml = std::fs::read_to_string(fixtures().join("mimic_gripper.yaml")).unwrap();
-    let urdf = std::fs::read_to_string(fixtures().join("mimic_gripper.urdf")).unwrap();
-    let e = RobotModel::from_texts(
-        &yaml.replace("tool: tcp", "tool: knuckle"),
-        Path::new("mimic_gripper.yaml"),
-        &urdf,
-        Path::new("mimic_gripper.urdf"),
-    )
-    .unwrap_err();
-    let message = e.to_string();
+    let message = description_refusal("tool: tcp", "tool: knuckle");
     assert!(
         message.contains("mimic joint 'finger_right_joint'"),
         "{message}"
