@@ -44,7 +44,7 @@ pub enum IkStart {
 /// Where the pipeline's path IK starts: where the arm is. Measured on 80
 /// random scenes of both robots, trying the arms again from home and from
 /// two random postures when none was free never gave a free motion the
-/// current start had not (84 of 84 free motions came from it) and took
+/// current start had not (85 of 85 free motions came from it) and took
 /// three quarters of the planning time; a branch that folds into the body
 /// is left by the path IK's self-clearance screen instead.
 pub const IK_START: IkStart = IkStart::Current;
