@@ -64,8 +64,7 @@ impl Planner {
         timings: &mut StageTimings,
     ) -> Result<Attempt, Refused> {
         let (world, goal, request, seed) = (pass.world, pass.goal, pass.request, pass.seed);
-        let (options, scene) = (&self.options, &world.scene);
-        let blocked = &retry.blocked.clone();
+        let (options, scene, blocked) = (&self.options, &world.scene, &retry.blocked);
         if let Some(gripper) = &world.gripper {
             grasp_pose(
                 scene,
