@@ -1,8 +1,9 @@
 //! Planning time of the safety campaign: wall seconds per sub-goal (every
 //! attempt at it, from the planner's own per-sub-goal clock) and per scene
 //! (the whole `plan` call), as median, 99th percentile and maximum per
-//! robot. Wall-clock figures: the only part of the campaign's report that
-//! differs from run to run (scenes run in parallel on every core).
+//! robot, and the slowest scenes by index (to plan them again alone).
+//! Wall-clock figures: the only part of the campaign's report that differs
+//! from run to run (scenes run in parallel on every core).
 
 use std::collections::BTreeMap;
 
@@ -43,27 +44,57 @@ impl TimeStats {
 pub struct PlanningTimes {
     pub subgoal: TimeStats,
     pub scene: TimeStats,
+    /// The [`SLOWEST`] scenes with the slowest sub-goals, slowest first.
+    pub slowest: Vec<SlowScene>,
 }
 
-/// Per robot and in total (`"total"`), from `(robot, sub-goal times, scene
-/// time)` per scene.
+/// How many of the slowest scenes a report names.
+pub const SLOWEST: usize = 5;
+
+/// A scene named for its slow sub-goal.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SlowScene {
+    /// The scene's index in the series.
+    pub scene: usize,
+    /// Its slowest sub-goal's wall seconds.
+    pub subgoal_s: f64,
+    /// The whole scene's wall seconds.
+    pub scene_s: f64,
+}
+
+/// One scene's times: its index, robot, sub-goal times and scene time.
+pub type SceneTimes<'a> = (usize, &'a str, &'a [f64], f64);
+
+/// A robot's sub-goal times, scene times and scenes, as gathered.
+type Gathered = (Vec<f64>, Vec<f64>, Vec<SlowScene>);
+
+/// Per robot and in total (`"total"`), from each scene's times.
 pub fn planning_times<'a>(
-    scenes: impl Iterator<Item = (&'a str, &'a [f64], f64)>,
+    scenes: impl Iterator<Item = SceneTimes<'a>>,
 ) -> BTreeMap<String, PlanningTimes> {
-    let mut gathered: BTreeMap<String, (Vec<f64>, Vec<f64>)> = BTreeMap::new();
-    for (robot, subgoals, scene) in scenes {
+    let mut gathered: BTreeMap<String, Gathered> = BTreeMap::new();
+    for (index, robot, subgoals, scene) in scenes {
+        let slow = SlowScene {
+            scene: index,
+            subgoal_s: subgoals.iter().copied().fold(0.0, f64::max),
+            scene_s: scene,
+        };
         for key in [robot, "total"] {
-            let (s, w) = gathered.entry(key.to_string()).or_default();
+            let (s, w, named) = gathered.entry(key.to_string()).or_default();
             s.extend_from_slice(subgoals);
             w.push(scene);
+            named.push(slow);
         }
     }
     gathered
         .into_iter()
-        .map(|(robot, (s, w))| {
+        .map(|(robot, (s, w, mut named))| {
+            named.sort_by(|a, b| b.subgoal_s.total_cmp(&a.subgoal_s));
+            named.truncate(SLOWEST);
             let times = PlanningTimes {
                 subgoal: TimeStats::of(&s),
                 scene: TimeStats::of(&w),
+                slowest: named,
             };
             (robot, times)
         })
@@ -89,8 +120,10 @@ mod tests {
     fn times_are_gathered_per_robot_and_in_total() {
         let a = [0.5, 1.5];
         let b = [3.0];
-        let t = planning_times([("iiwa", &a[..], 2.0), ("cob", &b[..], 3.0)].into_iter());
+        let t = planning_times([(0, "iiwa", &a[..], 2.0), (1, "cob", &b[..], 3.0)].into_iter());
         assert_eq!(t["iiwa"].subgoal.max_s, 1.5);
+        assert_eq!(t["total"].slowest[0].scene, 1);
+        assert_eq!(t["total"].slowest[1].subgoal_s, 1.5);
         assert_eq!(t["cob"].scene.count, 1);
         assert_eq!(t["total"].subgoal.count, 3);
         assert_eq!(t["total"].scene.max_s, 3.0);

@@ -178,6 +178,9 @@ impl Tally {
     }
 }
 
+/// How many scenes [`SafetyReport::free_pose_scenes`] names per kind.
+pub const FREE_POSE_SCENES: usize = 50;
+
 /// The campaign's counts: in total (flattened at the top level of the JSON)
 /// and per robot.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -189,6 +192,10 @@ pub struct SafetyReport {
     /// Wall-clock planning times per robot and in `"total"` (the only
     /// figures that differ from run to run).
     pub planning_time: BTreeMap<String, PlanningTimes>,
+    /// Per refusal kind, the scenes (indices, ascending, the first
+    /// [`FREE_POSE_SCENES`]) with a refusal of that kind the probe found
+    /// free poses for: where to look for a false refusal.
+    pub free_pose_scenes: BTreeMap<String, Vec<usize>>,
     /// The first message of each violation class and refusal kind, with its
     /// scene ("scene 17 (care_o_bot4), sub-goal 1: …"), for people; not in
     /// the JSON.
@@ -207,10 +214,11 @@ impl SafetyReport {
                 .map(|r| (r.to_string(), Tally::default()))
                 .collect(),
             examples: BTreeMap::new(),
+            free_pose_scenes: BTreeMap::new(),
             planning_time: planning_times(
                 outcomes
                     .iter()
-                    .map(|s| (s.robot, s.subgoal_s.as_slice(), s.scene_s)),
+                    .map(|s| (s.index, s.robot, s.subgoal_s.as_slice(), s.scene_s)),
             ),
         };
         for s in outcomes {
@@ -227,6 +235,10 @@ impl SafetyReport {
             for (k, (kind, reason)) in s.refusals.iter().enumerate() {
                 let text = format!("{}: {reason}", at(None));
                 if s.free_poses.get(k) == Some(&Some(true)) {
+                    let scenes = report.free_pose_scenes.entry(kind.to_string()).or_default();
+                    if scenes.len() < FREE_POSE_SCENES && scenes.last() != Some(&s.index) {
+                        scenes.push(s.index);
+                    }
                     let key = format!("{kind} with free poses");
                     report.examples.entry(key).or_insert(text.clone());
                 }
@@ -250,6 +262,11 @@ impl SafetyReport {
                     s.median_s, s.p99_s, s.max_s, s.count
                 ));
             }
+            let slowest: Vec<String> = t.slowest.iter().map(|s| s.scene.to_string()).collect();
+            out.push_str(&format!(
+                "  {robot:<12} slowest scenes: {}\n",
+                slowest.join(", ")
+            ));
         }
         out
     }

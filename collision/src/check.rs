@@ -387,8 +387,12 @@ impl<S: Sweep> Prepared<S> {
         opts: &PathOptions,
     ) -> Result<PathVerdict, CollisionError> {
         let active = active(scene, opts, &self.names)?;
+        let spheres: Vec<_> = (self.shapes.iter())
+            .map(|s| s.compute_local_bounding_sphere())
+            .collect();
         let b = Bodies {
             shapes: &self.shapes,
+            spheres: &spheres,
             names: &self.names,
             groups: &self.groups,
             scene,

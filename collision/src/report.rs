@@ -22,6 +22,11 @@ pub struct CheckSettings {
     pub max_reports: usize,
     /// Check robot links against each other (joint paths only).
     pub self_collision: bool,
+    /// Scan each hit forward for its deepest point (the report's
+    /// `worst_t`, `clearance`, `penetration`, up to 300 pair queries a
+    /// hit). `false`: a hit is reported where it was first seen, which is
+    /// all a yes-or-no test (a transit edge, a screen) needs.
+    pub describe: bool,
 }
 
 impl Default for CheckSettings {
@@ -30,6 +35,7 @@ impl Default for CheckSettings {
             tolerance: 1e-4,
             max_reports: 1,
             self_collision: true,
+            describe: true,
         }
     }
 }

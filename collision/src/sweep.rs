@@ -17,7 +17,7 @@
 //! `tolerance`, so the loop ends; when it does without a hit, every group's
 //! distance stayed above its margin on the whole path.
 
-use parry3d::bounding_volume::Aabb;
+use parry3d::bounding_volume::{Aabb, BoundingSphere};
 use parry3d::math::Pose as PPose;
 use parry3d::query;
 use parry3d::shape::SharedShape;
@@ -57,6 +57,8 @@ pub(crate) trait Sweep {
 /// The fixed inputs of a run.
 pub(crate) struct Bodies<'a> {
     pub shapes: &'a [SharedShape],
+    /// Each shape's bounding sphere in its own frame.
+    pub spheres: &'a [BoundingSphere],
     pub names: &'a [String],
     pub groups: &'a [Group],
     pub scene: &'a Scene,
@@ -146,6 +148,22 @@ fn next_due(sweep: &impl Sweep, g: usize, t: f64, d: f64, n: usize) -> f64 {
     }
 }
 
+/// Two moving bodies whose bounding spheres are further apart than this, m,
+/// are not measured exactly: the spheres' distance, a lower bound of theirs,
+/// is the slack. A lower bound keeps the advancement conservative (the next
+/// check comes sooner, never later), and above 5 cm it costs few extra
+/// checks while sparing most of the exact queries of a self-collision check
+/// (a third of the Care-O-bot's planning time, measured on the safety
+/// campaign's slowest scenes, with the same plans).
+const BODY_BROAD_PHASE_GAP: f64 = 0.05;
+
+/// Distance of two bounding spheres (each in its body's frame) at the
+/// bodies' poses: a lower bound of the bodies' distance.
+fn sphere_distance(p1: &PPose, s1: &BoundingSphere, p2: &PPose, s2: &BoundingSphere) -> f64 {
+    let (c1, c2) = (p1 * s1.center, p2 * s2.center);
+    c1.distance(c2) - s1.radius - s2.radius
+}
+
 /// Closest partner of group `g` (optionally restricted to one partner).
 fn nearest(
     b: &Bodies<'_>,
@@ -159,12 +177,17 @@ fn nearest(
     let pose = &poses[group.body];
     match group.partner {
         Partner::Body(o) => {
-            stats.pair_queries += 1;
-            let d = distance(pose, shape, &poses[o], b.shapes[o].as_ref());
-            Nearest {
-                slack: d,
-                partner: o,
-            }
+            let other = b.shapes[o].as_ref();
+            stats.aabb_tests += 1;
+            let bound = sphere_distance(pose, &b.spheres[group.body], &poses[o], &b.spheres[o]);
+            let slack = match bound > BODY_BROAD_PHASE_GAP {
+                true => bound,
+                false => {
+                    stats.pair_queries += 1;
+                    distance(pose, shape, &poses[o], other)
+                }
+            };
+            Nearest { slack, partner: o }
         }
         Partner::Scene => {
             let aabb: Aabb = shape.compute_aabb(pose);
@@ -276,7 +299,10 @@ fn describe(
     let step = 0.01;
     let mut t = t0;
     let mut resume = n;
-    let limit = (t0 + 3.0).min(n);
+    let limit = match settings.describe {
+        true => (t0 + 3.0).min(n),
+        false => t0,
+    };
     while t < limit {
         t = (t + step).min(limit);
         let s = pair_signed(sweep.poses_at(t), stats);

@@ -139,9 +139,9 @@ impl Arm {
         self.solve_path_screened(targets, start, settings, rng, &mut |_| true)
     }
 
-    /// [`Arm::solve_path`] that prefers a branch every waypoint of which
-    /// passes `screen` (e.g. free of self-collision): a branch with a
-    /// waypoint the screen rejects is left for the next start attempt, and
+    /// [`Arm::solve_path`] that prefers a branch whose joint path (every
+    /// waypoint, in order) passes `screen` (e.g. free of self-collision): a
+    /// branch the screen rejects is left for the next start attempt, and
     /// only when no attempt passes is the first complete path returned (the
     /// caller's own checks then name what is wrong with it). The screen
     /// never makes a reachable path unreachable.
@@ -151,7 +151,7 @@ impl Arm {
         start: Option<&[Real]>,
         settings: &PathSettings,
         rng: &mut impl Rng,
-        screen: &mut dyn FnMut(&[Real]) -> bool,
+        screen: &mut dyn FnMut(&[Vec<Real>]) -> bool,
     ) -> Result<JointPath, PathFailure> {
         let count = targets.len();
         let fail = |index: usize, reason: IkFailure| PathFailure {
@@ -185,7 +185,7 @@ impl Arm {
                 Err(reason) => return Err(fail(0, reason)),
             };
             match self.follow(targets, q0, settings, rng) {
-                Ok(path) if path.waypoints.iter().all(|q| screen(q)) => return Ok(path),
+                Ok(path) if screen(&path.waypoints) => return Ok(path),
                 Ok(path) => {
                     unscreened.get_or_insert(path);
                 }

@@ -228,14 +228,14 @@ fn screened_path_ik_leaves_a_rejected_branch_and_never_loses_a_reachable_path() 
         })
         .collect();
     let settings = PathSettings::default();
-    let solve = |screen: &mut dyn FnMut(&[f64]) -> bool| {
+    let solve = |screen: &mut dyn FnMut(&[Vec<f64>]) -> bool| {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         arm.solve_path_screened(&targets, Some(&arm.home), &settings, &mut rng, screen)
             .unwrap()
     };
     let plain = solve(&mut |_| true);
     let sign = plain.waypoints[0][3].signum();
-    let other = solve(&mut |q| q[3].signum() != sign);
+    let other = solve(&mut |path| path.iter().all(|q| q[3].signum() != sign));
     assert!(
         other.waypoints.iter().all(|q| q[3].signum() != sign),
         "{:?}",

@@ -191,6 +191,18 @@ fn leg_options(
     })
 }
 
+/// `options` for a yes-or-no check: a hit is not scanned for its deepest
+/// point.
+fn verdict_only(options: PathOptions) -> PathOptions {
+    PathOptions {
+        settings: afford_collision::CheckSettings {
+            describe: false,
+            ..options.settings
+        },
+        ..options
+    }
+}
+
 /// The edge test of an arm's free moves in one sub-goal (the transit
 /// planner's validity test): the scene and options [`check_motion`] uses on
 /// that leg, built once.
@@ -224,7 +236,7 @@ impl<'a> FreeMoves<'a> {
             scene,
             arm: arm.to_string(),
             rest: rest.to_vec(),
-            options: leg_options(robot, geometry, arm, object, leg)?,
+            options: verdict_only(leg_options(robot, geometry, arm, object, leg)?),
         })
     }
 
@@ -275,22 +287,26 @@ impl<'a> SelfClearance<'a> {
             rest: rest.to_vec(),
             settings: afford_collision::CheckSettings {
                 tolerance: SELF_CLEARANCE,
+                describe: false,
                 ..Default::default()
             },
         })
     }
 
-    /// Whether `arm` at `q` keeps [`SELF_CLEARANCE`] from every other body
-    /// of the robot (a configuration the check cannot take passes: the
-    /// collision stage reports it).
-    pub fn admits(&self, arm: &str, q: &[f64]) -> bool {
+    /// Whether `arm` along `path` (its joint path, checked continuously
+    /// between the waypoints) keeps [`SELF_CLEARANCE`] from every other body
+    /// of the robot (a path the check cannot take passes: the collision
+    /// stage reports it). One continuous check of the whole path costs a
+    /// fraction of one static check per waypoint: conservative advancement
+    /// steps over the stretches where the arm is far from its body.
+    pub fn admits(&self, arm: &str, path: &[Vec<f64>]) -> bool {
         let options = PathOptions {
             arm: Some(arm.to_string()),
             settings: self.settings,
             ..PathOptions::default()
         };
         self.geometry
-            .check_arm_path(&self.scene, arm, &self.rest, &[q.to_vec()], &options)
+            .check_arm_path(&self.scene, arm, &self.rest, path, &options)
             .map_or(true, |v| v.is_free())
     }
 }

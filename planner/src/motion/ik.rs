@@ -97,7 +97,7 @@ pub fn solve_motions(
             IkStart::Home => arm.home.clone(),
             IkStart::Random(_) => random_configuration(arm, &mut rng),
         };
-        let mut admits = |q: &[f64]| screen.is_none_or(|s| s.admits(&arm.name, q));
+        let mut admits = |path: &[Vec<f64>]| screen.is_none_or(|s| s.admits(&arm.name, path));
         match arm.solve_path_screened(&targets, Some(&ik_seed), settings, &mut rng, &mut admits) {
             Ok(path) => choices.push(ArmChoice {
                 arm: arm.name.clone(),

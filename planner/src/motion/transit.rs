@@ -374,23 +374,44 @@ fn sampling_bounds(arm: &Arm, from: &[f64], to: &[f64]) -> Vec<(f64, f64)> {
 
 /// Random shortcutting: `attempts` times, two vertices at least two apart
 /// are joined straight when that edge is free, dropping those between.
+/// A pair found not free stays not free (the check is deterministic), so it
+/// is remembered and never checked again; once every pair left has failed,
+/// no draw could shorten the path and the loop ends. Both leave the result
+/// unchanged and spare the edge checks that dominate a transit's cost.
 fn shortcut(
     path: &mut Vec<Vec<f64>>,
     free: &mut Free,
     attempts: usize,
     rng: &mut ChaCha8Rng,
 ) -> Result<(), TransitError> {
+    // Each vertex keeps its index in the path as found, so a failed pair is
+    // recognised after vertices between others were dropped.
+    let mut ids: Vec<usize> = (0..path.len()).collect();
+    let mut failed = std::collections::BTreeSet::new();
     for _ in 0..attempts {
-        if path.len() < 3 {
+        if path.len() < 3 || every_pair_failed(&ids, &failed) {
             break;
         }
         let i = rng.random_range(0..path.len() - 2);
         let j = rng.random_range(i + 2..path.len());
+        if failed.contains(&(ids[i], ids[j])) {
+            continue;
+        }
         if free(&path[i], &path[j])? {
             path.drain(i + 1..j);
+            ids.drain(i + 1..j);
+        } else {
+            failed.insert((ids[i], ids[j]));
         }
     }
     Ok(())
+}
+
+/// Has every pair of vertices at least two apart been found not free?
+fn every_pair_failed(ids: &[usize], failed: &std::collections::BTreeSet<(usize, usize)>) -> bool {
+    let n = ids.len();
+    let pairs = n.saturating_sub(1) * n.saturating_sub(2) / 2;
+    failed.len() >= pairs && (0..n).all(|i| (i + 2..n).all(|j| failed.contains(&(ids[i], ids[j]))))
 }
 
 #[cfg(test)]
@@ -524,5 +545,54 @@ mod tests {
             1,
         );
         assert_eq!(refused, Err(TransitError::StartCollides));
+    }
+
+    /// Shortcutting a path whose shortcuts all collide checks each pair of
+    /// vertices at most once, and stops once every pair has failed.
+    #[test]
+    fn shortcutting_never_checks_a_failed_pair_twice() {
+        let mut path: Vec<Vec<f64>> = (0..5).map(|k| vec![f64::from(k)]).collect();
+        let original = path.clone();
+        let mut checked: Vec<(f64, f64)> = Vec::new();
+        let mut never = |a: &[f64], b: &[f64]| {
+            checked.push((a[0], b[0]));
+            Ok::<bool, TransitError>(false)
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        shortcut(&mut path, &mut never, 1000, &mut rng).expect("check runs");
+        assert_eq!(path, original);
+        let mut distinct = checked.clone();
+        distinct.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+        distinct.dedup();
+        assert_eq!(distinct.len(), checked.len(), "{checked:?}");
+        // Pairs at least two apart among 5 vertices: 6, each checked once.
+        assert_eq!(checked.len(), 6);
+    }
+
+    /// Remembering failed pairs does not change which shortcuts are taken:
+    /// the same seed gives the same path as checking every draw.
+    #[test]
+    fn shortcutting_keeps_its_result_with_failed_pairs_remembered() {
+        let free = |a: &[f64], b: &[f64]| (a[0] - b[0]).abs() <= 3.0;
+        let path: Vec<Vec<f64>> = (0..12).map(|k| vec![f64::from(k)]).collect();
+        let mut remembered = path.clone();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut check = |a: &[f64], b: &[f64]| Ok::<bool, TransitError>(free(a, b));
+        shortcut(&mut remembered, &mut check, 48, &mut rng).expect("check runs");
+        // The plain rule, every draw checked.
+        let mut plain = path.clone();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..48 {
+            if plain.len() < 3 {
+                break;
+            }
+            let i = rng.random_range(0..plain.len() - 2);
+            let j = rng.random_range(i + 2..plain.len());
+            if free(&plain[i], &plain[j]) {
+                plain.drain(i + 1..j);
+            }
+        }
+        assert_eq!(remembered, plain);
+        assert!(remembered.len() < path.len());
     }
 }
