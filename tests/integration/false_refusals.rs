@@ -10,6 +10,8 @@
 //!   perimeter: the learner starts from the free cell nearest the gripper.
 //! - A Care-O-bot leaving park beside a tall tray: the cheaper arm folds
 //!   into the torso, the other needs the tool turned at the grasp.
+//! - A wrist at its joint limit at the grasp: the tool turned half a turn
+//!   grasps within every limit.
 
 use afford::planner::grid::{CellCode, GridRequest, Obstacles, StateGrid};
 use afford::planner::scenario;
@@ -135,4 +137,20 @@ fn a_sub_goal_tries_no_more_arm_motions_than_its_budget() {
     let refused = Planner::new(options).plan(&s).unwrap_err().to_string();
     assert!(refused.contains("collides"), "{refused}");
     assert!(Planner::new(PlanOptions::default()).plan(&s).is_ok());
+}
+
+#[test]
+fn a_wrist_at_its_joint_limit_at_the_grasp_turns_the_tool_instead_of_refusing() {
+    // black-triangle-1 rightly stays refused (its held piece enters a box's
+    // perimeter at the grasp); black-triangle-2 needed joint_a7 beyond its
+    // limit at the grasp until the tool was turned.
+    let plan = planned_checked_and_run("iiwa-wrist-limit-at-grasp", 1);
+    let moved: Vec<&str> = (plan["subgoals"].as_array().unwrap().iter())
+        .map(|s| s["object"].as_str().unwrap())
+        .collect();
+    assert_eq!(moved, ["black-triangle-2"], "{plan}");
+    let kinds: Vec<&str> = (plan["unsolved"].as_array().unwrap().iter())
+        .map(|u| u["refusal"]["kind"].as_str().unwrap())
+        .collect();
+    assert!(!kinds.contains(&"joint_limit"), "{kinds:?}");
 }

@@ -81,17 +81,16 @@ impl Planner {
         }
         let first = waypoints.first().cloned().unwrap_or_else(|| start.clone());
         let stream = 2 * choice.arm_index;
-        let mut lead =
-            match self.transit(arm, &before, &start, &first, pass.seed, stream, timings)? {
-                Ok(path) => path,
-                Err(e) => {
-                    return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
-                        arm: arm.name.clone(),
-                        place: HitPlace::ToFirstWaypoint,
-                        reason: e.to_string(),
-                    }));
-                }
-            };
+        let mut lead = match self.transit(pass, arm, &before, &start, &first, stream, timings)? {
+            Ok(path) => path,
+            Err(e) => {
+                return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
+                    arm: arm.name.clone(),
+                    place: HitPlace::ToFirstWaypoint,
+                    reason: e.to_string(),
+                }));
+            }
+        };
         // The transit ends on the first waypoint, which the IK path starts with.
         lead.pop();
         // joint_path[lead.len() + 1 + k] is tool waypoint k.
@@ -104,7 +103,7 @@ impl Planner {
             let after = moves(Leg::AfterRelease)?;
             let last = joint_path.last().cloned().unwrap_or_default();
             let parked = arm.extract(&start::parked_home(robot));
-            match self.transit(arm, &after, &last, &parked, pass.seed, stream + 1, timings)? {
+            match self.transit(pass, arm, &after, &last, &parked, stream + 1, timings)? {
                 Ok(path) => joint_path.extend(path),
                 Err(e) => {
                     return Ok(ArmMotionOutcome::NoTransit(TransitFailure {
@@ -153,19 +152,24 @@ impl Planner {
     /// `moves`' edge test, with the random stream `stream` of the sub-goal's
     /// seed. An end that is not free gives the straight move, for the whole
     /// path's check to name the hit; the inner `Err` is why no transit
-    /// exists within the budget, the outer one a check that cannot run.
+    /// exists within the budget (a search this sub-goal already made in
+    /// vain is not made again: [`super::world::FailedTransits`]), the outer
+    /// one a check that cannot run.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn transit(
         &self,
+        pass: &Pass,
         arm: &Arm,
         moves: &FreeMoves,
         from: &[f64],
         to: &[f64],
-        seed: u64,
         stream: usize,
         timings: &mut StageTimings,
     ) -> Result<Result<Vec<Vec<f64>>, TransitError>, Refused> {
         let settings = &self.options.transit;
+        if let Some(e) = pass.failed_transits.get(stream, from, to) {
+            return Ok(Err(e));
+        }
         let found = timed(&mut timings.transit, || {
             plan_transit(
                 arm,
@@ -173,9 +177,12 @@ impl Planner {
                 to,
                 &mut |a, b| moves.edge_free(a, b),
                 settings,
-                subgoal_seed(seed ^ TRANSIT_STREAM, stream),
+                subgoal_seed(pass.seed ^ TRANSIT_STREAM, stream),
             )
         });
+        if let Err(e @ TransitError::NotFound { .. }) = &found {
+            pass.failed_transits.insert(stream, from, to, e.clone());
+        }
         match found {
             Ok(t) => Ok(Ok(t.path)),
             Err(TransitError::StartCollides | TransitError::EndCollides) => {
@@ -256,7 +263,6 @@ impl Replan {
         motion: &LiftedMotion,
         arm: &str,
     ) -> Self {
-        let grid = &task.grid;
         let at = hit
             .index
             .checked_sub(offset)
@@ -266,19 +272,8 @@ impl Replan {
             None if hit.index <= offset => HitPlace::ToFirstWaypoint,
             None => HitPlace::ReturningToPark,
         };
-        let cell = at
-            .filter(|(_, phase)| matches!(phase, Phase::Travel | Phase::Carry))
-            .map(|(k, _)| motion.waypoints[k].position)
-            .map(|p| grid.cell_at(scene.base_to_pixel([p[0], p[1]])))
-            .filter(|&cell| {
-                cell != grid.start && cell != grid.target && grid.code(cell) == CellCode::Empty
-            });
-        let at_grasp = at.is_some_and(|(_, p)| {
-            matches!(
-                p,
-                Phase::Approach | Phase::Grasp | Phase::Lift | Phase::Release
-            )
-        });
+        let cell = at.and_then(|(k, phase)| blockable_cell(scene, task, motion, k, phase));
+        let at_grasp = at.is_some_and(|(_, p)| where_the_hand_acts(p));
         // The robot is inside a hand's perimeter where it stands: no motion
         // can keep that margin, the hand has to move first.
         let in_hand_at_start = hit.collision.first_t <= 1e-9
@@ -294,6 +289,72 @@ impl Replan {
             lowered: false,
         }
     }
+}
+
+impl Replan {
+    /// The next pass after no arm reached the tool path within its joint
+    /// limits (`joint_limit`) or at all (`unreachable`), as after a
+    /// collision at the waypoint where each arm failed: a travel or carry
+    /// waypoint's cell is blocked (the route passing too near the base, or
+    /// too far out, goes round it), and a failure where the hand acts turns
+    /// the tool (half a turn unwinds a wrist at its limit). `Err`: the
+    /// refusal stands (another kind, or no failure the grid or a turn can
+    /// change).
+    pub(super) fn out_of_reach(
+        refusal: Refusal,
+        scene: &Scenario,
+        task: &GridTask,
+        motion: &LiftedMotion,
+    ) -> Result<Self, Refusal> {
+        let (Refusal::JointLimit { arms } | Refusal::Unreachable { arms }) = &refusal else {
+            return Err(refusal);
+        };
+        let at = |f: &crate::error::ArmFailure| f.phase.map(|p| (f.waypoint, p));
+        // The earliest waypoint any arm failed at decides the cell.
+        let cell = (arms.iter().filter_map(at))
+            .filter_map(|(k, p)| Some((k, blockable_cell(scene, task, motion, k, p)?)))
+            .min_by_key(|&(k, _)| k)
+            .map(|(_, cell)| cell);
+        let at_grasp = arms
+            .iter()
+            .filter_map(at)
+            .any(|(_, p)| where_the_hand_acts(p));
+        if cell.is_none() && !at_grasp {
+            return Err(refusal);
+        }
+        Ok(Self {
+            refusal,
+            replannable_cell: cell,
+            at_grasp,
+            lowered: false,
+        })
+    }
+}
+
+/// The grid cell under tool waypoint `k` when the waypoint is a travel or
+/// carry one over a cell that may be blocked (not the start, the target or
+/// an obstacle's).
+fn blockable_cell(
+    scene: &Scenario,
+    task: &GridTask,
+    motion: &LiftedMotion,
+    k: usize,
+    phase: Phase,
+) -> Option<Cell> {
+    let grid = &task.grid;
+    let p = motion.waypoints.get(k)?.position;
+    let cell = grid.cell_at(scene.base_to_pixel([p[0], p[1]]));
+    let blockable = cell != grid.start && cell != grid.target && grid.code(cell) == CellCode::Empty;
+    (matches!(phase, Phase::Travel | Phase::Carry) && blockable).then_some(cell)
+}
+
+/// Whether the hand closes or opens on the object in `phase` (approach,
+/// grasp, lift, release): turning the tool may change what happens there.
+fn where_the_hand_acts(phase: Phase) -> bool {
+    matches!(
+        phase,
+        Phase::Approach | Phase::Grasp | Phase::Lift | Phase::Release
+    )
 }
 
 /// Largest joint difference (rad or m) at which a solved configuration is

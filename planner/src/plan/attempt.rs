@@ -143,11 +143,19 @@ impl Planner {
         let mut free = None;
         let screen = SelfClearance::new(geometry, &world.joints)
             .map_err(|e| Refused::motion(Refusal::internal("collision", e)))?;
-        let choices = timed(&mut timings.ik, || {
+        let solved = timed(&mut timings.ik, || {
             let (joints, ik) = (&world.joints, &options.ik);
             solve_motions(robot, &motion, joints, ik, seed, IK_START, Some(&screen))
-        })
-        .map_err(Refused::motion)?;
+        });
+        let choices = match solved {
+            Ok(choices) => choices,
+            Err(refusal) => {
+                let replan = Replan::out_of_reach(refusal, scene, &task, &motion);
+                return replan
+                    .map(|r| Attempt::Collides(Box::new(r)))
+                    .map_err(Refused::motion);
+            }
+        };
         for choice in choices {
             if retry.arm_motions >= options.max_arm_motions {
                 break;

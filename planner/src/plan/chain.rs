@@ -5,7 +5,9 @@
 use std::time::{Duration, Instant};
 
 use super::types::{Planner, StageTimings, SubgoalPlan};
-use super::world::{Pass, Rewound, Snapshot, World, later_in_goal, request, subgoal_seed};
+use super::world::{
+    FailedTransits, Pass, Rewound, Snapshot, World, later_in_goal, request, subgoal_seed,
+};
 use crate::error::{Refusal, UnsolvedSubgoal};
 use crate::instruction::SubGoal;
 use crate::start::{self};
@@ -40,6 +42,7 @@ impl Planner {
             let request = request(&world.scene, goal, world.gripper_px);
             snapshots[k] = Some(world.snapshot());
             let later = later_in_goal(&world.scene, goals, k);
+            let failed_transits = FailedTransits::default();
             let pass = Pass {
                 world,
                 goal,
@@ -47,6 +50,7 @@ impl Planner {
                 seed: subgoal_seed(self.options.seed, k),
                 park: park[k],
                 later: &later,
+                failed_transits: &failed_transits,
             };
             let started = Instant::now();
             let planned = self.plan_subgoal(pass, timings);

@@ -3,6 +3,8 @@
 //! where it released), its snapshots for going back, the grid request and
 //! the room of a sub-goal in it, and the seed of each sub-goal.
 
+use std::cell::RefCell;
+
 use afford_collision::RobotGeometry;
 use afford_kinematics::RobotModel;
 
@@ -14,6 +16,7 @@ use crate::lift::GripperReach;
 use crate::place::Room;
 use crate::scenario::Scenario;
 use crate::start::{self};
+use crate::transit::TransitError;
 
 /// What carries over from one sub-goal to the next: the scene as the camera
 /// would see it and the robot's configuration.
@@ -104,6 +107,36 @@ pub(super) struct Pass<'a> {
     /// The objects the chain releases into the same goal later
     /// ([`later_in_goal`]).
     pub(super) later: &'a [usize],
+    /// The transits of this sub-goal that were not found within the
+    /// budget ([`FailedTransits`]).
+    pub(super) failed_transits: &'a FailedTransits,
+}
+
+/// The transits a sub-goal's passes searched for and did not find, by
+/// random stream (arm and leg) and ends. Within one sub-goal the scene, the
+/// rest of the robot and the seed are the same for every pass, so the same
+/// search gives the same answer: a pass that needs a transit already
+/// searched for in vain (the grid replanned elsewhere, the tool turned, the
+/// way to the same first waypoint unchanged) takes the answer instead of
+/// spending the transit planner's budget again.
+#[derive(Debug, Default)]
+pub(super) struct FailedTransits(RefCell<Vec<FailedTransit>>);
+
+/// A transit not found: stream, start, end and why.
+type FailedTransit = (usize, Vec<f64>, Vec<f64>, TransitError);
+
+impl FailedTransits {
+    /// The failure of the same search, if it failed before.
+    pub(super) fn get(&self, stream: usize, from: &[f64], to: &[f64]) -> Option<TransitError> {
+        (self.0.borrow().iter())
+            .find(|(s, a, b, _)| *s == stream && a == from && b == to)
+            .map(|(.., e)| e.clone())
+    }
+
+    /// Remembers that the search found nothing.
+    pub(super) fn insert(&self, stream: usize, from: &[f64], to: &[f64], e: TransitError) {
+        (self.0.borrow_mut()).push((stream, from.to_vec(), to.to_vec(), e));
+    }
 }
 
 /// Why a sub-goal was not planned.
@@ -173,4 +206,25 @@ pub fn subgoal_seed(seed: u64, k: usize) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A transit searched for in vain is answered again only for the same
+    /// random stream and the same two ends.
+    #[test]
+    fn a_transit_searched_in_vain_is_not_searched_again_for_the_same_ends() {
+        let failed = FailedTransits::default();
+        let e = TransitError::NotFound {
+            iterations: 300,
+            extend_length: 1.0,
+        };
+        failed.insert(2, &[0.0, 1.0], &[1.0, 0.5], e.clone());
+        assert_eq!(failed.get(2, &[0.0, 1.0], &[1.0, 0.5]), Some(e));
+        assert_eq!(failed.get(3, &[0.0, 1.0], &[1.0, 0.5]), None);
+        assert_eq!(failed.get(2, &[0.0, 1.0], &[1.0, 0.6]), None);
+        assert_eq!(failed.get(2, &[0.1, 1.0], &[1.0, 0.5]), None);
+    }
 }
