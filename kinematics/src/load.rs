@@ -125,11 +125,28 @@ impl RobotModel {
         urdf_text: &str,
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
-        let description = parse_description(description_yaml, description_file)?;
         let packages = PackagePaths::new(Vec::new());
+        Self::from_texts_with(
+            description_yaml,
+            description_file,
+            urdf_text,
+            urdf_file,
+            &packages,
+        )
+    }
+
+    /// As [`Self::from_texts`], with `package://` meshes searched in `packages`.
+    pub fn from_texts_with(
+        description_yaml: &str,
+        description_file: &Path,
+        urdf_text: &str,
+        urdf_file: &Path,
+        packages: &PackagePaths,
+    ) -> Result<Self, KinematicsError> {
+        let description = parse_description(description_yaml, description_file)?;
         let search = MeshSearch {
             urdf_dir: urdf_file.parent().unwrap_or_else(|| Path::new(".")),
-            packages: &packages,
+            packages,
         };
         let tree = urdf::parse(urdf_text, urdf_file, search)?;
         let mut model = assemble(&tree, &description, description_file)?;
@@ -142,7 +159,7 @@ impl RobotModel {
 
 /// A robot file's text: a regular file of at most [`MAX_FILE_BYTES`] (one
 /// byte more is read, so that the parsers refuse a larger file).
-pub(crate) fn read_text(p: &Path) -> Result<String, KinematicsError> {
+pub fn read_text(p: &Path) -> Result<String, KinematicsError> {
     use std::io::Read;
     let io = |source| KinematicsError::Io {
         file: p.to_path_buf(),

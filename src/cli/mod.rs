@@ -85,6 +85,8 @@ pub struct RunArgs {
     /// Add each decision's wall-clock time (µs) and replan time (ms) to the events: the output is then no longer reproducible.
     #[arg(long)]
     pub timings: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -110,6 +112,8 @@ pub struct PlanArgs {
     /// Stop the pipeline after this stage and print what exists so far.
     #[arg(long, value_enum, default_value_t = Until::Trajectory)]
     pub until: Until,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 /// The pipeline stages `--until` accepts.
@@ -150,6 +154,8 @@ pub struct CheckArgs {
     /// `physics` violations.
     #[arg(long)]
     pub physics: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -181,6 +187,8 @@ pub struct AcmArgs {
     /// A pair is skipped as `never` only when it stays farther apart than this in every sample, metres.
     #[arg(long, default_value_t = afford_collision::AcmSettings::default().clearance)]
     pub clearance: f64,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -190,6 +198,23 @@ pub struct ValidateArgs {
     /// Seed for instructions that choose at random ("some", "two of them").
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    #[command(flatten)]
+    pub packages: PackageArgs,
+}
+
+/// `--package-path DIR` (repeatable), on every command that loads a robot.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct PackageArgs {
+    /// A folder to look for `package://NAME` meshes in (the folder NAME itself or one holding a sub-folder NAME), before ROS_PACKAGE_PATH, AMENT_PREFIX_PATH and the URDF's folders; repeatable.
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+}
+
+impl PackageArgs {
+    /// The package search path: these folders first, then the environment's.
+    pub fn paths(&self) -> afford_kinematics::PackagePaths {
+        afford_kinematics::PackagePaths::new(self.package_path.clone())
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
