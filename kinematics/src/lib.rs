@@ -20,6 +20,7 @@ mod builtin;
 mod chain;
 mod choose;
 mod description;
+pub mod draft;
 mod error;
 mod ik;
 mod input;
@@ -47,7 +48,7 @@ pub use error::{IkFailure, KinematicsError, MeshProblem, MimicProblem};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use input::open_regular;
 pub use kchain::KBaseline;
-pub use load::DEFAULT_JERK_RAMP_S;
+pub use load::{DEFAULT_JERK_RAMP_S, read_text};
 pub use math::*;
 pub use mesh::PackagePaths;
 pub use model::{
