@@ -157,6 +157,22 @@ impl RobotModel {
     }
 }
 
+/// The URDF a description file names (a `.urdf` path is its own), as
+/// [`RobotModel::from_path`] finds it.
+pub fn description_urdf(path: &Path) -> Result<PathBuf, KinematicsError> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+    {
+        return Ok(path.to_path_buf());
+    }
+    let description = parse_description(&read_text(path)?, path)?;
+    Ok(path
+        .parent()
+        .unwrap_or_else(|| Path::new("."))
+        .join(&description.urdf))
+}
+
 /// A robot file's text: a regular file of at most [`MAX_FILE_BYTES`] (one
 /// byte more is read, so that the parsers refuse a larger file).
 pub fn read_text(p: &Path) -> Result<String, KinematicsError> {
@@ -318,6 +334,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         allowed_collisions: d.allowed_collisions.clone(),
         postures: Vec::new(),
         urdf: "".into(),
+        camera: d.camera,
     })
 }
 

@@ -7,6 +7,7 @@ mod export;
 pub mod output;
 mod plan;
 mod robots;
+mod robots_init;
 mod run;
 mod run_svg;
 mod summary;
@@ -172,6 +173,47 @@ pub enum RobotsCommand {
     /// Derive the allowed-collision matrix (which link pairs the self-collision check skips) from
     /// the robot's geometry and print the `allowed_collisions:` block for its description file.
     Acm(AcmArgs),
+    /// Draft a complete robot description from a URDF (and MoveIt SRDF): arms, tool, gripper, limits, home and park, the allowed-collision matrix and a tabletop camera set-up; every guess is a line on stderr.
+    Init(RobotsInitArgs),
+    /// Measure a robot description: reach over its table region, self-collision at home and park, IK success on random reachable poses, and how far its meshes lie outside the collision model (exit 1 above the tolerance).
+    Check(RobotsCheckArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RobotsInitArgs {
+    /// The robot's URDF.
+    pub urdf: PathBuf,
+    /// Its MoveIt SRDF: planning groups, end effector, group states, disabled collisions.
+    #[arg(long, value_name = "FILE")]
+    pub srdf: Option<PathBuf>,
+    /// The description file to write (a regular file, replaced whole); omitted: standard output, paths relative to the current folder.
+    #[arg(short, long, value_name = "DESCRIPTION")]
+    pub output: Option<PathBuf>,
+    /// Also write the default scenario (`afford plan`'s) for this robot and its camera set-up to this file.
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// Random configurations the allowed-collision matrix is derived from.
+    #[arg(long, default_value_t = afford_collision::AcmSettings::default().samples)]
+    pub samples: u64,
+    #[command(flatten)]
+    pub packages: PackageArgs,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RobotsCheckArgs {
+    /// The robot description file (.yaml).
+    pub description: PathBuf,
+    /// Random reachable poses per arm for the IK success rate.
+    #[arg(long, default_value_t = 1000)]
+    pub poses: usize,
+    /// Seed of the random poses and IK starts.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -380,6 +422,14 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
             command: Some(RobotsCommand::Acm(args)),
             ..
         }) => robots::acm(&args),
+        Command::Robots(RobotsArgs {
+            command: Some(RobotsCommand::Init(args)),
+            ..
+        }) => robots_init::init(&args),
+        Command::Robots(RobotsArgs {
+            command: Some(RobotsCommand::Check(args)),
+            ..
+        }) => robots_init::check(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
