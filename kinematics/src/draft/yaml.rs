@@ -59,10 +59,17 @@ impl Draft {
                 let _ = writeln!(y, "    park: {}", map(park));
             }
         }
-        let _ = writeln!(y, "# {}", postures.home_source);
-        let _ = writeln!(y, "home:");
-        for (j, v) in &postures.home {
-            let _ = writeln!(y, "  {}: {}", quote(j), number(*v));
+        if !postures.home_source.is_empty() {
+            let _ = writeln!(y, "# {}", postures.home_source);
+        }
+        match postures.home.is_empty() {
+            true => y.push_str("home: {}\n"),
+            false => {
+                let _ = writeln!(y, "home:");
+                for (j, v) in &postures.home {
+                    let _ = writeln!(y, "  {}: {}", quote(j), number(*v));
+                }
+            }
         }
         if !self.acceleration_limits.is_empty() {
             let _ = writeln!(
