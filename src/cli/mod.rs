@@ -372,6 +372,11 @@ pub struct BenchIkArgs {
     /// Random reachable poses per arm.
     #[arg(long, default_value_t = 10_000)]
     pub poses: usize,
+    /// Measure this robot (a built-in name or a description file) instead of the built-in ones; repeatable.
+    #[arg(long, value_name = "ROBOT")]
+    pub robot: Vec<String>,
+    #[command(flatten)]
+    pub packages: PackageArgs,
     #[command(flatten)]
     pub common: BenchSeedArgs,
 }
