@@ -56,7 +56,12 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
                 )
                 .map_err(|e| Failure::new(ExitKind::BadInput, e.to_string()))?;
                 for arm in model.arms() {
-                    arms.push(afford_kinematics::bench_arm(model.name(), arm, args.poses, args.common.seed));
+                    arms.push(afford_kinematics::bench_arm(
+                        model.name(),
+                        arm,
+                        args.poses,
+                        args.common.seed,
+                    ));
                 }
             }
             afford_kinematics::IkBenchReport { arms }
