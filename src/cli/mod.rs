@@ -195,6 +195,9 @@ pub struct RobotsInitArgs {
     /// Random configurations the allowed-collision matrix is derived from.
     #[arg(long, default_value_t = afford_collision::AcmSettings::default().samples)]
     pub samples: u64,
+    /// Keep the bare flange as the tool when the URDF has no gripper (by default afford's assumed gripper is mounted in a copy of the URDF beside the description).
+    #[arg(long)]
+    pub no_assumed_gripper: bool,
     #[command(flatten)]
     pub packages: PackageArgs,
 }

@@ -34,6 +34,7 @@ pub fn init(args: &RobotsInitArgs) -> Result<(), Failure> {
             samples: args.samples,
             ..AcmSettings::default()
         },
+        assume_gripper: !args.no_assumed_gripper,
     })
     .map_err(|e| bad(format!("afford robots init: {e}")))?;
     let seconds = start.elapsed().as_secs_f64();
@@ -42,6 +43,15 @@ pub fn init(args: &RobotsInitArgs) -> Result<(), Failure> {
     }
     for d in &report.srdf_differences {
         note(format_args!("srdf: {d}"));
+    }
+    if let Some((path, text)) = &report.derived_urdf {
+        if args.output.is_none() {
+            return Err(bad(format!(
+                "afford robots init: the URDF has no gripper: the assumed one goes into a URDF beside the description; name it with -o DESCRIPTION (or pass --no-assumed-gripper)"
+            )));
+        }
+        regular(path)?;
+        emit(text, Some(path))?;
     }
     emit(&report.description, args.output.as_deref())?;
     if let Some(path) = &args.scenario {

@@ -20,6 +20,7 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use afford_collision::{AcmSettings, AllowedCollisionMatrix};
+use afford_kinematics::draft::mount;
 use afford_kinematics::{CameraSetup, PackagePaths, RobotModel};
 
 /// What `init` reads and where the description will be.
@@ -33,6 +34,9 @@ pub struct InitOptions {
     pub packages: PackagePaths,
     /// Samples of the allowed-collision matrix.
     pub acm: AcmSettings,
+    /// Mount afford's assumed gripper when the URDF has no fingers below
+    /// the tool (written into a copy of the URDF beside the description).
+    pub assume_gripper: bool,
 }
 
 /// The drafted description and what was guessed.
@@ -47,6 +51,9 @@ pub struct InitReport {
     pub camera: Option<CameraSetup>,
     /// The loaded model of the description.
     pub model: RobotModel,
+    /// The copy of the URDF with the assumed gripper, to be written where
+    /// the description names it.
+    pub derived_urdf: Option<(PathBuf, String)>,
 }
 
 /// Drafts the description (see the module docs and the robots guide).
@@ -59,9 +66,32 @@ pub fn init(o: &InitOptions) -> Result<InitReport, String> {
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let urdf_text = afford_kinematics::read_text(&o.urdf).map_err(e)?;
+    let mut urdf_text = afford_kinematics::read_text(&o.urdf).map_err(e)?;
+    let mut urdf_path = o.urdf.clone();
+    let mut derived_urdf = None;
+    let approach_ok = (draft.approach)
+        .is_some_and(|a| a.z.acos() <= afford_kinematics::draft::APPROACH_TOLERANCE_RAD);
+    if o.assume_gripper && draft.gripper.fingers.is_empty() && approach_ok {
+        let path = o.output.with_extension("urdf");
+        if same_file(&path, &o.urdf) {
+            return Err(format!(
+                "{}: the URDF with the assumed gripper would replace the URDF read; name the description elsewhere",
+                path.display()
+            ));
+        }
+        let text =
+            mount::with_assumed_gripper(&urdf_text, &o.urdf, &o.packages, &draft.arms[0].tool)
+                .map_err(e)?;
+        let mut redrafted =
+            afford_kinematics::draft::draft_text(&text, &path, o.srdf.as_deref(), &o.packages)
+                .map_err(e)?;
+        redrafted.use_assumed_gripper(&path);
+        draft = redrafted;
+        (urdf_text, urdf_path) = (text.clone(), path.clone());
+        derived_urdf = Some((path, text));
+    }
     let load = |text: &str| {
-        RobotModel::from_texts_with(text, &o.output, &urdf_text, &o.urdf, &o.packages).map_err(e)
+        RobotModel::from_texts_with(text, &o.output, &urdf_text, &urdf_path, &o.packages).map_err(e)
     };
     let first = afford_kinematics::draft::Postures {
         home: draft.finger_open.clone(),
@@ -99,7 +129,15 @@ pub fn init(o: &InitOptions) -> Result<InitReport, String> {
         srdf_differences,
         camera,
         model,
+        derived_urdf,
     })
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
 }
 
 /// The `camera:` section.

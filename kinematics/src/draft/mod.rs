@@ -12,6 +12,7 @@ mod arms;
 mod fk;
 mod gripper;
 mod groups;
+pub mod mount;
 mod yaml;
 
 use std::collections::BTreeMap;
@@ -77,12 +78,22 @@ pub fn draft(
     packages: &PackagePaths,
 ) -> Result<Draft, KinematicsError> {
     let text = crate::load::read_text(urdf)?;
+    draft_text(&text, urdf, srdf, packages)
+}
+
+/// As [`draft`], with the URDF's text given (`urdf` names it and its folder).
+pub fn draft_text(
+    text: &str,
+    urdf: &Path,
+    srdf: Option<&Path>,
+    packages: &PackagePaths,
+) -> Result<Draft, KinematicsError> {
     let search = MeshSearch {
         urdf_dir: urdf.parent().unwrap_or_else(|| Path::new(".")),
         packages,
     };
-    let tree = crate::urdf::parse(&text, urdf, search)?;
-    let name = robot_name(&text).unwrap_or_else(|| "robot".into());
+    let tree = crate::urdf::parse(text, urdf, search)?;
+    let name = robot_name(text).unwrap_or_else(|| "robot".into());
     let mut guesses = Vec::new();
     let groups = match srdf {
         Some(p) => Some(groups::read(p)?),
@@ -133,6 +144,27 @@ pub fn draft(
         disabled,
         guesses,
     })
+}
+
+impl Draft {
+    /// Makes the assumed gripper (`mount`) the first arm's: its grasp point
+    /// the tool, its finger box the fingers, the iiwa's sizes.
+    pub fn use_assumed_gripper(&mut self, urdf: &Path) {
+        self.urdf = urdf.to_path_buf();
+        self.arms[0].tool = mount::TCP_LINK.into();
+        self.gripper = crate::Gripper {
+            fingers: vec![mount::FINGERS.into()],
+            ..crate::Gripper::default()
+        };
+        self.guesses
+            .retain(|g| !g.starts_with("gripper.") && !g.starts_with("arms[0].tool"));
+        self.guesses.push(format!(
+            "gripper: the URDF has none: afford's assumed parallel gripper (palm capsule, finger box, opening {} m, grasp point '{}' 0.15 m beyond the flange) mounted in {}",
+            self.gripper.max_opening,
+            mount::TCP_LINK,
+            urdf.display()
+        ));
+    }
 }
 
 /// `<robot name="..">`, the first one in the text.

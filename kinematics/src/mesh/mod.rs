@@ -24,7 +24,7 @@
 mod dae;
 mod formats;
 mod hull;
-mod resolve;
+pub(crate) mod resolve;
 mod surface;
 
 use std::io::Read;
