@@ -59,7 +59,7 @@ pub fn choose(
         }
     }
     if home.is_none() {
-        (home, home_source) = ik_home(model, &reacher, camera, guesses);
+        (home, home_source) = ik_home(model, draft, &reacher, camera, guesses);
     }
     let home = home.unwrap_or_else(|| model.home().to_vec());
     let park_source;
@@ -97,6 +97,7 @@ pub fn choose(
 /// Home by IK over the table region's centre (module docs).
 fn ik_home(
     model: &RobotModel,
+    draft: &Draft,
     reacher: &Reacher,
     camera: Option<&CameraSetup>,
     guesses: &mut Vec<String>,
@@ -130,7 +131,11 @@ fn ik_home(
     );
     match best {
         Some(q) => {
-            guesses.push(format!("home: by IK, tool down at ({x:.3}, {y:.3}, {:.3}), the solution farthest inside the joint limits; fingers open", p.z));
+            let fingers = match draft.finger_open.is_empty() {
+                true => "",
+                false => "; finger joints open",
+            };
+            guesses.push(format!("home: by IK, tool down at ({x:.3}, {y:.3}, {:.3}), the solution farthest inside the joint limits{fingers}", p.z));
             (Some(q), text)
         }
         None => {
