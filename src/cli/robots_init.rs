@@ -46,9 +46,9 @@ pub fn init(args: &RobotsInitArgs) -> Result<(), Failure> {
     }
     if let Some((path, text)) = &report.derived_urdf {
         if args.output.is_none() {
-            return Err(bad(format!(
-                "afford robots init: the URDF has no gripper: the assumed one goes into a URDF beside the description; name it with -o DESCRIPTION (or pass --no-assumed-gripper)"
-            )));
+            return Err(bad(
+                "afford robots init: the URDF has no gripper: the assumed one goes into a URDF beside the description; name it with -o DESCRIPTION (or pass --no-assumed-gripper)".into(),
+            ));
         }
         regular(path)?;
         emit(text, Some(path))?;

@@ -107,12 +107,18 @@ pub fn check(description: &Path, o: &CheckOptions) -> Result<CheckReport, String
     }
     for c in coverage
         .iter()
-        .filter(|c| !(c.max_outside_m <= COVERAGE_TOLERANCE_M))
+        .filter(|c| c.max_outside_m.is_nan() || c.max_outside_m > COVERAGE_TOLERANCE_M)
     {
-        failures.push(format!(
-            "link '{}': {} mesh '{}' lies up to {:.4} m outside the collision model (tolerance {COVERAGE_TOLERANCE_M} m)",
-            c.link, c.kind, c.mesh, c.max_outside_m
-        ));
+        failures.push(match c.max_outside_m.is_finite() {
+            true => format!(
+                "link '{}': {} mesh '{}' lies up to {:.4} m outside the collision model (tolerance {COVERAGE_TOLERANCE_M} m)",
+                c.link, c.kind, c.mesh, c.max_outside_m
+            ),
+            false => format!(
+                "link '{}': {} mesh '{}' lies outside the collision model: the link has no collision geometry",
+                c.link, c.kind, c.mesh
+            ),
+        });
     }
     Ok(CheckReport {
         robot: model.name().to_string(),

@@ -54,10 +54,11 @@ pub(super) fn gripper(
     };
     let mut open = BTreeMap::new();
     for l in &tree.links {
-        if let Some(j) = l.joint.as_ref().filter(|j| fingers.contains(&j.name)) {
-            if j.resolved.is_none() && j.upper.is_finite() {
-                open.insert(j.name.clone(), j.upper);
-            }
+        if let Some(j) = l.joint.as_ref().filter(|j| fingers.contains(&j.name))
+            && j.resolved.is_none()
+            && j.upper.is_finite()
+        {
+            open.insert(j.name.clone(), j.upper);
         }
     }
     let poses = fk::poses(tree, &open);
