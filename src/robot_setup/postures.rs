@@ -103,10 +103,10 @@ fn ik_home(
     guesses: &mut Vec<String>,
 ) -> (Option<Vec<f64>>, String) {
     let Some(c) = camera else {
-        guesses.push("home: every joint at 0 clamped into its limits, fingers open (no table region in reach to point over)".into());
+        guesses.push("home: every arm joint at 0 clamped into its limits (no table region in reach to point over)".into());
         return (
             None,
-            "Home: every joint at 0 clamped into its limits, fingers open.".into(),
+            "Home: every arm joint at 0 clamped into its limits.".into(),
         );
     };
     let (x, y) = c.point(f64::from(c.width) / 2.0, f64::from(c.height) / 2.0);
@@ -142,7 +142,7 @@ fn ik_home(
             guesses.push("home: no collision-free IK solution over the table centre; every joint at 0 clamped into its limits".into());
             (
                 None,
-                "Home: every joint at 0 clamped into its limits, fingers open.".into(),
+                "Home: every arm joint at 0 clamped into its limits.".into(),
             )
         }
     }

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::toy_robot::{Layout, Toy, write_toy};
+use crate::toy_robot::{Layout, Toy, write_toy, write_toy_with};
 use crate::util::{Run, afford, assert_contains_all, scratch_dir};
 
 fn s(p: &Path) -> &str {
@@ -242,4 +242,83 @@ fn init_refuses_a_folder_as_its_output_and_names_a_broken_urdf() {
     run.assert_code(2).assert_no_panic();
     assert!(run.stderr.contains("broken.urdf"), "{}", run.stderr);
     assert!(!out.exists(), "nothing written for a broken URDF");
+}
+
+#[test]
+fn an_arm_without_a_gripper_gets_the_assumed_one_in_a_copy_of_its_urdf() {
+    let dir = scratch_dir("robots-init-bare-flange");
+    let toy = write_toy_with(&dir, Layout::Beside, None, false);
+    let original = std::fs::read_to_string(&toy.urdf).expect("urdf");
+    // No SRDF: its end effector names `tcp`, which this URDF lacks.
+    let run = init(&toy, &dir, false, &[]);
+    run.assert_code(0);
+    assert!(
+        run.stderr.contains("guessed: gripper: the URDF has none"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(
+        std::fs::read_to_string(&toy.urdf).expect("urdf"),
+        original,
+        "the URDF read is untouched"
+    );
+    let copy = std::fs::read_to_string(dir.join("toy.urdf"))
+        .expect("the URDF with the gripper, beside the description");
+    assert_contains_all(
+        "the copy",
+        &copy,
+        &["<link name=\"afford_gripper\">", "<parent link=\"link6\"/>"],
+    );
+    let text = std::fs::read_to_string(dir.join("toy.yaml")).expect("written");
+    assert_contains_all(
+        "the description",
+        &text,
+        &[
+            "urdf: toy.urdf",
+            "tool: afford_tcp",
+            "fingers: [afford_gripper#1]",
+        ],
+    );
+    let (scene, plan) = (dir.join("scene.yaml"), dir.join("plan.json"));
+    afford(&["plan", s(&scene), "-o", s(&plan)]).assert_code(0);
+    afford(&["check", s(&scene), s(&plan)]).assert_code(0);
+    // --no-assumed-gripper keeps the flange as the tool.
+    let bare = dir.join("bare.yaml");
+    afford(&[
+        "robots",
+        "init",
+        s(&toy.urdf),
+        "-o",
+        s(&bare),
+        "--samples",
+        "500",
+        "--no-assumed-gripper",
+    ])
+    .assert_code(0);
+    let text = std::fs::read_to_string(&bare).expect("written");
+    assert!(
+        text.contains("tool: link6") && text.contains("fingers: []"),
+        "{text}"
+    );
+}
+
+#[test]
+fn bench_ik_measures_a_description_file() {
+    let dir = scratch_dir("robots-bench-ik");
+    let toy = write_toy(&dir, Layout::Beside, None);
+    init(&toy, &dir, true, &[]).assert_code(0);
+    let run = afford(&[
+        "bench",
+        "ik",
+        "--robot",
+        s(&dir.join("toy.yaml")),
+        "--poses",
+        "30",
+        "--json",
+    ]);
+    run.assert_code(0);
+    let r = run.json();
+    assert_eq!(r["arms"].as_array().map(Vec::len), Some(1), "{r}");
+    assert_eq!(r["arms"][0]["robot"], "toy_arm", "{r}");
+    assert_eq!(r["arms"][0]["poses"], 30, "{r}");
 }

@@ -137,8 +137,9 @@ const JOINTS: [(&str, &str, f64); 6] = [
 ];
 
 /// The URDF text. `visual` adds a visual mesh to link3 of that half size
-/// (a model whose collision box leaves it outside when it is larger).
-pub fn urdf(visual: Option<[f64; 3]>) -> String {
+/// (a model whose collision box leaves it outside when it is larger);
+/// `fingers: false` leaves the gripper out (a bare flange, `link6`).
+pub fn urdf(visual: Option<[f64; 3]>, fingers: bool) -> String {
     let mut u = String::from("<?xml version=\"1.0\"?>\n<robot name=\"toy_arm\">\n");
     for (i, (name, file, _, _)) in LINKS.iter().enumerate() {
         let mesh = format!("package://toy_description/meshes/{file}");
@@ -160,10 +161,11 @@ pub fn urdf(visual: Option<[f64; 3]>) -> String {
             );
         }
     }
-    for (side, axis, mimic) in [
+    let sides = [
         ("left", "0 1 0", ""),
         ("right", "0 -1 0", "<mimic joint=\"finger_left_joint\"/>"),
-    ] {
+    ];
+    for (side, axis, mimic) in sides.into_iter().filter(|_| fingers) {
         let y = if side == "left" { 0.005 } else { -0.005 };
         let _ = writeln!(
             u,
@@ -174,7 +176,9 @@ pub fn urdf(visual: Option<[f64; 3]>) -> String {
             "  <joint name=\"finger_{side}_joint\" type=\"prismatic\"><parent link=\"link6\"/><child link=\"finger_{side}\"/><origin xyz=\"0 0 0.055\"/><axis xyz=\"{axis}\"/><limit lower=\"0\" upper=\"0.03\" velocity=\"0.1\" effort=\"20\"/>{mimic}</joint>"
         );
     }
-    u.push_str("  <link name=\"tcp\"/>\n  <joint name=\"tcp_joint\" type=\"fixed\"><parent link=\"link6\"/><child link=\"tcp\"/><origin xyz=\"0 0 0.1\"/></joint>\n");
+    if fingers {
+        u.push_str("  <link name=\"tcp\"/>\n  <joint name=\"tcp_joint\" type=\"fixed\"><parent link=\"link6\"/><child link=\"tcp\"/><origin xyz=\"0 0 0.1\"/></joint>\n");
+    }
     u.push_str("</robot>\n");
     u
 }
@@ -200,6 +204,11 @@ fn write(path: &Path, text: &str) {
 
 /// Writes the toy robot into `dir` (see [`Layout`]); `visual` as for [`urdf`].
 pub fn write_toy(dir: &Path, layout: Layout, visual: Option<[f64; 3]>) -> Toy {
+    write_toy_with(dir, layout, visual, true)
+}
+
+/// As [`write_toy`]; `fingers` as for [`urdf`].
+pub fn write_toy_with(dir: &Path, layout: Layout, visual: Option<[f64; 3]>, fingers: bool) -> Toy {
     let (package, urdf_dir, packages) = match layout {
         Layout::Beside => (
             dir.join("toy_description"),
@@ -226,7 +235,7 @@ pub fn write_toy(dir: &Path, layout: Layout, visual: Option<[f64; 3]>) -> Toy {
         );
     }
     let urdf_path = urdf_dir.join("toy_arm.urdf");
-    write(&urdf_path, &urdf(visual));
+    write(&urdf_path, &urdf(visual, fingers));
     let srdf = urdf_dir.join("toy_arm.srdf");
     write(&srdf, SRDF);
     Toy {
