@@ -10,7 +10,7 @@ use afford_kinematics::{
 use rand_chacha::ChaCha8Rng;
 
 /// IK starts tried per point (home, then random configurations).
-pub const STARTS_PER_POINT: usize = 4;
+pub const STARTS_PER_POINT: usize = 12;
 
 /// The robot with its collision geometry, and the table of a camera set-up.
 pub struct Reacher<'a> {
