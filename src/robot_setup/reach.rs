@@ -9,7 +9,8 @@ use afford_kinematics::{
 };
 use rand_chacha::ChaCha8Rng;
 
-/// IK starts tried per point (home, then random configurations).
+/// IK starts tried per point (home, then random configurations): 4
+/// missed the UR5's collision-free solutions near its base.
 pub const STARTS_PER_POINT: usize = 12;
 
 /// The robot with its collision geometry, and the table of a camera set-up.
