@@ -322,3 +322,27 @@ fn bench_ik_measures_a_description_file() {
     assert_eq!(r["arms"][0]["robot"], "toy_arm", "{r}");
     assert_eq!(r["arms"][0]["poses"], 30, "{r}");
 }
+
+#[test]
+fn a_tool_frame_whose_z_is_not_the_approach_axis_is_named_with_the_fix() {
+    let dir = scratch_dir("robots-init-turned-tool");
+    let toy = write_toy(&dir, Layout::Beside, None);
+    let urdf = std::fs::read_to_string(&toy.urdf).expect("urdf");
+    // The grasp frame turned a quarter turn about x: its +z points sideways.
+    let turned = urdf.replace(
+        "<child link=\"tcp\"/><origin xyz=\"0 0 0.1\"/>",
+        "<child link=\"tcp\"/><origin xyz=\"0 0 0.1\" rpy=\"1.5708 0 0\"/>",
+    );
+    assert_ne!(turned, urdf, "the tcp joint was edited");
+    std::fs::write(&toy.urdf, turned).expect("write");
+    let run = init(&toy, &dir, true, &[]);
+    assert_contains_all(
+        "init's stderr",
+        &run.stderr,
+        &[
+            "arms[0].tool: 'tcp'",
+            "90° from its +z",
+            "add a fixed link to the URDF turned so",
+        ],
+    );
+}
