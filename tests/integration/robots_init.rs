@@ -50,6 +50,13 @@ fn a_published_urdf_with_an_srdf_becomes_a_description_that_plans() {
             "guessed: acceleration_limits:",
         ],
     );
+    // The SRDF's disabled pair touches in the samples: reported, not dropped.
+    assert!(
+        run.stderr
+            .contains("srdf: SRDF disables [base_link, link2]; the derived matrix checks it"),
+        "{}",
+        run.stderr
+    );
     let text = std::fs::read_to_string(dir.join("toy.yaml")).expect("description written");
     assert_contains_all(
         "the description",
