@@ -94,7 +94,7 @@ pub fn init(o: &InitOptions) -> Result<InitReport, String> {
         RobotModel::from_texts_with(text, &o.output, &urdf_text, &urdf_path, &o.packages).map_err(e)
     };
     let first = afford_kinematics::draft::Postures {
-        home: draft.finger_open.clone(),
+        home: draft.finger_open.clone().into_iter().collect(),
         ..Default::default()
     };
     let model = load(&draft.to_yaml(dir, &first))?;

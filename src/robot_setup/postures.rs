@@ -5,8 +5,6 @@
 //! [`HOME_CANDIDATES`]) farthest inside the joint limits. Finger joints
 //! open. Park: the SRDF group state named like park or rest, else home.
 
-use std::collections::BTreeMap;
-
 use afford_kinematics::draft::{Draft, Postures};
 use afford_kinematics::{CameraSetup, RobotModel, Vec3};
 use rand::SeedableRng;
@@ -63,7 +61,7 @@ pub fn choose(
     }
     let home = home.unwrap_or_else(|| model.home().to_vec());
     let park_source;
-    let park: Vec<BTreeMap<String, f64>> = match named(&["park", "rest", "transport"]) {
+    let park: Vec<Vec<(String, f64)>> = match named(&["park", "rest", "transport"]) {
         Some((name, values)) => {
             park_source = format!("Park: the SRDF group_state '{name}'.");
             let q = apply(values);
@@ -148,7 +146,7 @@ fn ik_home(
     }
 }
 
-fn by_name(model: &RobotModel, q: &[f64], indices: &[usize]) -> BTreeMap<String, f64> {
+fn by_name(model: &RobotModel, q: &[f64], indices: &[usize]) -> Vec<(String, f64)> {
     (indices.iter())
         .map(|&i| (model.joints()[i].name.clone(), q[i]))
         .collect()

@@ -1,21 +1,24 @@
 //! The draft written as description text (format 1), with a comment on
 //! each section saying where its values came from.
 
-use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Component, Path, PathBuf};
 
 use super::Draft;
 use crate::math::Real;
 
-/// The postures the caller chose: joint values by name.
+/// Joint values by name, in the order they are written.
+pub type Values = Vec<(String, Real)>;
+
+/// The postures the caller chose: joint values by name (configuration
+/// order reads best).
 #[derive(Debug, Clone, Default)]
 pub struct Postures {
-    pub home: BTreeMap<String, Real>,
+    pub home: Values,
     /// Where home came from (one comment line).
     pub home_source: String,
     /// Per arm (in the draft's order).
-    pub park: Vec<BTreeMap<String, Real>>,
+    pub park: Vec<Values>,
     pub park_source: String,
 }
 
@@ -111,7 +114,7 @@ impl Draft {
     }
 }
 
-fn map(m: &BTreeMap<String, Real>) -> String {
+fn map(m: &[(String, Real)]) -> String {
     let parts: Vec<String> = m
         .iter()
         .map(|(k, v)| format!("{}: {}", quote(k), number(*v)))
