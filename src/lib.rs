@@ -10,3 +10,4 @@ pub use afford_planner as planner;
 #[cfg(feature = "svg")]
 pub mod picture;
 pub mod plan_json;
+pub mod robot_setup;

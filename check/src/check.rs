@@ -125,15 +125,45 @@ pub fn check_plan(scenario: &Scenario, robot: &RobotModel, plan: &PlanFile) -> R
     report
 }
 
+/// Which bodies may touch the target before the gripper closes: the
+/// description's `gripper.fingers`; when it names none, every body rigid
+/// with an arm's tool frame (the rule the robot description documents).
+fn grasp_region(model: &RobotModel, kin: &Kinematics, bodies: &[Body]) -> Vec<bool> {
+    let named: Vec<bool> = (bodies.iter())
+        .map(|b| model.gripper().fingers.contains(&b.name))
+        .collect();
+    if !model.gripper().fingers.is_empty() {
+        return named;
+    }
+    let tools: Vec<Vec<usize>> = (model.arms().iter())
+        .filter_map(|a| model.link_index(&a.tool_link).ok())
+        .map(|l| moved_by_arms(model, kin, l))
+        .collect();
+    (bodies.iter())
+        .map(|b| tools.contains(&moved_by_arms(model, kin, b.link)))
+        .collect()
+}
+
+/// The arm joints (description order) that move `link`, sorted: two links
+/// with the same set are rigid with each other while any arm moves (a
+/// finger joint, in no arm, stays where it is).
+pub(crate) fn moved_by_arms(model: &RobotModel, kin: &Kinematics, link: usize) -> Vec<usize> {
+    let in_arm = |j: usize| model.arms().iter().any(|a| a.joint_indices.contains(&j));
+    let mut j: Vec<usize> = (kin.ancestry(link).iter())
+        .map(|a| a.joint)
+        .filter(|&j| in_arm(j))
+        .collect();
+    j.sort_unstable();
+    j.dedup();
+    j
+}
+
 impl<'a> Robot<'a> {
     pub(crate) fn new(model: &'a RobotModel) -> Result<Self, String> {
         let kin = Kinematics::new(model)?;
         let bodies = robot_bodies(model, &kin)?;
         let self_pairs = self_pairs(model, &kin, &bodies);
-        let fingers = bodies
-            .iter()
-            .map(|b| model.gripper().fingers.contains(&b.name))
-            .collect();
+        let fingers = grasp_region(model, &kin, &bodies);
         Ok(Self {
             model,
             kin,

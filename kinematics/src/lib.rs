@@ -20,6 +20,7 @@ mod builtin;
 mod chain;
 mod choose;
 mod description;
+pub mod draft;
 mod error;
 mod ik;
 mod input;
@@ -40,16 +41,16 @@ pub use bench::{
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};
 pub use description::{
-    AllowedCollisions, AllowedPair, AllowedReason, DEFAULT_GRIPPER_TIME, DESCRIPTION_FORMAT,
-    Gripper, MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
+    AllowedCollisions, AllowedPair, AllowedReason, CameraSetup, DEFAULT_GRIPPER_TIME,
+    DESCRIPTION_FORMAT, Gripper, MAX_ACM_SAMPLES, MAX_GRIPPER_TIME,
 };
 pub use error::{IkFailure, KinematicsError, MeshProblem, MimicProblem};
 pub use ik::{IkSettings, IkSolution, IkTarget, random_configuration};
 pub use input::open_regular;
 pub use kchain::KBaseline;
-pub use load::DEFAULT_JERK_RAMP_S;
+pub use load::{DEFAULT_JERK_RAMP_S, description_urdf, read_text};
 pub use math::*;
-pub use mesh::PackagePaths;
+pub use mesh::{MeshSurface, PackagePaths, mesh_surfaces};
 pub use model::{
     Arm, Collider, Joint, JointDrive, JointKind, Link, Mimic, MimicJoint, RobotModel, Shape,
 };

@@ -125,11 +125,28 @@ impl RobotModel {
         urdf_text: &str,
         urdf_file: &Path,
     ) -> Result<Self, KinematicsError> {
-        let description = parse_description(description_yaml, description_file)?;
         let packages = PackagePaths::new(Vec::new());
+        Self::from_texts_with(
+            description_yaml,
+            description_file,
+            urdf_text,
+            urdf_file,
+            &packages,
+        )
+    }
+
+    /// As [`Self::from_texts`], with `package://` meshes searched in `packages`.
+    pub fn from_texts_with(
+        description_yaml: &str,
+        description_file: &Path,
+        urdf_text: &str,
+        urdf_file: &Path,
+        packages: &PackagePaths,
+    ) -> Result<Self, KinematicsError> {
+        let description = parse_description(description_yaml, description_file)?;
         let search = MeshSearch {
             urdf_dir: urdf_file.parent().unwrap_or_else(|| Path::new(".")),
-            packages: &packages,
+            packages,
         };
         let tree = urdf::parse(urdf_text, urdf_file, search)?;
         let mut model = assemble(&tree, &description, description_file)?;
@@ -140,9 +157,25 @@ impl RobotModel {
     }
 }
 
+/// The URDF a description file names (a `.urdf` path is its own), as
+/// [`RobotModel::from_path`] finds it.
+pub fn description_urdf(path: &Path) -> Result<PathBuf, KinematicsError> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"))
+    {
+        return Ok(path.to_path_buf());
+    }
+    let description = parse_description(&read_text(path)?, path)?;
+    Ok(path
+        .parent()
+        .unwrap_or_else(|| Path::new("."))
+        .join(&description.urdf))
+}
+
 /// A robot file's text: a regular file of at most [`MAX_FILE_BYTES`] (one
 /// byte more is read, so that the parsers refuse a larger file).
-pub(crate) fn read_text(p: &Path) -> Result<String, KinematicsError> {
+pub fn read_text(p: &Path) -> Result<String, KinematicsError> {
     use std::io::Read;
     let io = |source| KinematicsError::Io {
         file: p.to_path_buf(),
@@ -301,6 +334,7 @@ fn assemble(tree: &Tree, d: &Description, file: &Path) -> Result<RobotModel, Kin
         allowed_collisions: d.allowed_collisions.clone(),
         postures: Vec::new(),
         urdf: "".into(),
+        camera: d.camera,
     })
 }
 

@@ -265,12 +265,19 @@ pub struct RobotModel {
     pub(crate) postures: Vec<crate::srdf::NamedPosture>,
     /// The URDF text the model was built from.
     pub(crate) urdf: std::sync::Arc<str>,
+    /// The description's recommended tabletop set-up.
+    pub(crate) camera: Option<crate::description::CameraSetup>,
 }
 
 impl RobotModel {
     /// Robot name (the description's `name`).
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The description's recommended tabletop set-up (`camera:`), if any.
+    pub fn camera(&self) -> Option<&crate::description::CameraSetup> {
+        self.camera.as_ref()
     }
 
     /// Where the model came from: `built-in` or the description path.

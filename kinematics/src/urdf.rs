@@ -406,3 +406,50 @@ fn collider(
         shape,
     })
 }
+
+/// A `<mesh>` of a link's `<collision>` or `<visual>`, as written.
+#[derive(Debug, Clone)]
+pub(crate) struct MeshElement {
+    pub link: String,
+    pub visual: bool,
+    pub filename: String,
+    pub scale: [Real; 3],
+    /// The element's `<origin>` in the link frame.
+    pub origin: Pose,
+}
+
+/// Every `<mesh>` of the URDF's links, collision ones first per link.
+pub(crate) fn mesh_elements(text: &str, file: &Path) -> Result<Vec<MeshElement>, KinematicsError> {
+    let robot = urdf_rs::read_from_string(text).map_err(|e| KinematicsError::UrdfSyntax {
+        file: file.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut out = Vec::new();
+    for link in &robot.links {
+        let collision = link
+            .collision
+            .iter()
+            .map(|c| (false, &c.origin, &c.geometry));
+        let visual = link.visual.iter().map(|v| (true, &v.origin, &v.geometry));
+        for (visual, origin, geometry) in collision.chain(visual) {
+            if let urdf_rs::Geometry::Mesh { filename, scale } = geometry {
+                let (xyz, rpy) = (origin.xyz.0, origin.rpy.0);
+                check_origin(&xyz, &rpy).map_err(|problem| {
+                    element_error(
+                        file,
+                        format!("link '{}' <mesh filename=\"{filename}\">", link.name),
+                        problem,
+                    )
+                })?;
+                out.push(MeshElement {
+                    link: link.name.clone(),
+                    visual,
+                    filename: filename.clone(),
+                    scale: scale.map_or([1.0; 3], |s| s.0),
+                    origin: pose_from_xyz_rpy(xyz, rpy),
+                });
+            }
+        }
+    }
+    Ok(out)
+}

@@ -49,7 +49,7 @@ impl Planner {
         // A scenario built in code has not been through the file checks:
         // every size bound holds before any work starts.
         scenario.validate()?;
-        start::check_stated_joints(scenario, &self.options.base_dir)?;
+        start::check_stated_joints(scenario, &self.options.base_dir, &self.options.packages)?;
         let mut timings = StageTimings::default();
         let Interpretation {
             subgoals: goals,
@@ -84,7 +84,7 @@ impl Planner {
             options.until >= Stage::Waypoints || spec.start.is_none() || spec.joints.is_some();
         let robot = match needs_robot {
             true => Some(
-                RobotModel::load(&spec.model, &options.base_dir)
+                RobotModel::load_with(&spec.model, &options.base_dir, &options.packages)
                     .map_err(|e| PlanError::Robot(e.to_string()))?,
             ),
             false => None,
@@ -165,8 +165,12 @@ impl Planner {
         goals: &[SubGoal],
         from: &MidExecution,
     ) -> Result<Plan, PlanError> {
-        let robot = RobotModel::load(&scenario.robot.model, &self.options.base_dir)
-            .map_err(|e| PlanError::Robot(e.to_string()))?;
+        let robot = RobotModel::load_with(
+            &scenario.robot.model,
+            &self.options.base_dir,
+            &self.options.packages,
+        )
+        .map_err(|e| PlanError::Robot(e.to_string()))?;
         let geometry = RobotGeometry::new(&robot).map_err(|e| PlanError::Robot(e.to_string()))?;
         self.plan_from_loaded(scenario, &robot, &geometry, goals, from)
     }

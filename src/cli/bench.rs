@@ -43,8 +43,30 @@ pub fn ik(args: &BenchIkArgs) -> Result<(), Failure> {
     count_in(args.poses, "poses", MAX_POSES)?;
     let bar = progress_bar(1, "runs");
     bar.set_message("solving");
-    let report = afford_kinematics::ik_benchmark(args.poses, args.common.seed)
-        .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?;
+    let report = match args.robot.is_empty() {
+        true => afford_kinematics::ik_benchmark(args.poses, args.common.seed)
+            .map_err(|e| Failure::new(ExitKind::CouldNotPlan, e.to_string()))?,
+        false => {
+            let mut arms = Vec::new();
+            for name in &args.robot {
+                let model = afford_kinematics::RobotModel::load_with(
+                    name,
+                    std::path::Path::new("."),
+                    &args.packages.paths(),
+                )
+                .map_err(|e| Failure::new(ExitKind::BadInput, e.to_string()))?;
+                for arm in model.arms() {
+                    arms.push(afford_kinematics::bench_arm(
+                        model.name(),
+                        arm,
+                        args.poses,
+                        args.common.seed,
+                    ));
+                }
+            }
+            afford_kinematics::IkBenchReport { arms }
+        }
+    };
     bar.finish_and_clear();
     if args.common.json {
         return print_report(&report, true);

@@ -31,7 +31,7 @@ struct JsonReport<'a> {
 
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let scenario = load(Some(&args.scenario))?;
-    let robot = load_robot(&scenario, Some(&args.scenario))?;
+    let robot = load_robot(&scenario, Some(&args.scenario), &args.packages.paths())?;
     joints_fit(&args.scenario, &scenario, &robot)?;
     let plan = read_plan_file(&args.plan)?;
     let mut report = check_plan(&scenario, &robot, &plan);

@@ -62,10 +62,15 @@ fn from_scenario(args: &ExportMdpArgs) -> Result<Vec<MdpExport>, Failure> {
     }
     let path = args.scenario.as_deref();
     let scenario = load(path)?;
-    let robot = load_robot(&scenario, path)?;
+    let robot = load_robot(
+        &scenario,
+        path,
+        &afford_kinematics::PackagePaths::new(Vec::new()),
+    )?;
     let validate = ValidateArgs {
         scenario: args.scenario.clone(),
         seed: args.seed,
+        packages: Default::default(),
     };
     let gripper = gripper_pixel(&scenario, &robot, &validate)?;
     let name = path.and_then(Path::file_stem).map_or_else(

@@ -7,6 +7,7 @@ mod export;
 pub mod output;
 mod plan;
 mod robots;
+mod robots_init;
 mod run;
 mod run_svg;
 mod summary;
@@ -85,6 +86,8 @@ pub struct RunArgs {
     /// Add each decision's wall-clock time (µs) and replan time (ms) to the events: the output is then no longer reproducible.
     #[arg(long)]
     pub timings: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -110,6 +113,8 @@ pub struct PlanArgs {
     /// Stop the pipeline after this stage and print what exists so far.
     #[arg(long, value_enum, default_value_t = Until::Trajectory)]
     pub until: Until,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 /// The pipeline stages `--until` accepts.
@@ -150,6 +155,8 @@ pub struct CheckArgs {
     /// `physics` violations.
     #[arg(long)]
     pub physics: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -166,6 +173,50 @@ pub enum RobotsCommand {
     /// Derive the allowed-collision matrix (which link pairs the self-collision check skips) from
     /// the robot's geometry and print the `allowed_collisions:` block for its description file.
     Acm(AcmArgs),
+    /// Draft a complete robot description from a URDF (and MoveIt SRDF): arms, tool, gripper, limits, home and park, the allowed-collision matrix and a tabletop camera set-up; every guess is a line on stderr.
+    Init(RobotsInitArgs),
+    /// Measure a robot description: reach over its table region, self-collision at home and park, IK success on random reachable poses, and how far its meshes lie outside the collision model (exit 1 above the tolerance).
+    Check(RobotsCheckArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RobotsInitArgs {
+    /// The robot's URDF.
+    pub urdf: PathBuf,
+    /// Its MoveIt SRDF: planning groups, end effector, group states, disabled collisions.
+    #[arg(long, value_name = "FILE")]
+    pub srdf: Option<PathBuf>,
+    /// The description file to write (a regular file, replaced whole); omitted: standard output, paths relative to the current folder.
+    #[arg(short, long, value_name = "DESCRIPTION")]
+    pub output: Option<PathBuf>,
+    /// Also write the default scenario (`afford plan`'s) for this robot and its camera set-up to this file.
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// Random configurations the allowed-collision matrix is derived from.
+    #[arg(long, default_value_t = afford_collision::AcmSettings::default().samples)]
+    pub samples: u64,
+    /// Keep the bare flange as the tool when the URDF has no gripper (by default afford's assumed gripper is mounted in a copy of the URDF beside the description).
+    #[arg(long)]
+    pub no_assumed_gripper: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct RobotsCheckArgs {
+    /// The robot description file (.yaml).
+    pub description: PathBuf,
+    /// Random reachable poses per arm for the IK success rate.
+    #[arg(long, default_value_t = 1000)]
+    pub poses: usize,
+    /// Seed of the random poses and IK starts.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -181,6 +232,8 @@ pub struct AcmArgs {
     /// A pair is skipped as `never` only when it stays farther apart than this in every sample, metres.
     #[arg(long, default_value_t = afford_collision::AcmSettings::default().clearance)]
     pub clearance: f64,
+    #[command(flatten)]
+    pub packages: PackageArgs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -190,6 +243,23 @@ pub struct ValidateArgs {
     /// Seed for instructions that choose at random ("some", "two of them").
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    #[command(flatten)]
+    pub packages: PackageArgs,
+}
+
+/// `--package-path DIR` (repeatable), on every command that loads a robot.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct PackageArgs {
+    /// A folder to look for `package://NAME` meshes in (the folder NAME itself or one holding a sub-folder NAME), before ROS_PACKAGE_PATH, AMENT_PREFIX_PATH and the URDF's folders; repeatable.
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+}
+
+impl PackageArgs {
+    /// The package search path: these folders first, then the environment's.
+    pub fn paths(&self) -> afford_kinematics::PackagePaths {
+        afford_kinematics::PackagePaths::new(self.package_path.clone())
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -305,6 +375,11 @@ pub struct BenchIkArgs {
     /// Random reachable poses per arm.
     #[arg(long, default_value_t = 10_000)]
     pub poses: usize,
+    /// Measure this robot (a built-in name or a description file) instead of the built-in ones; repeatable.
+    #[arg(long, value_name = "ROBOT")]
+    pub robot: Vec<String>,
+    #[command(flatten)]
+    pub packages: PackageArgs,
     #[command(flatten)]
     pub common: BenchSeedArgs,
 }
@@ -355,6 +430,14 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
             command: Some(RobotsCommand::Acm(args)),
             ..
         }) => robots::acm(&args),
+        Command::Robots(RobotsArgs {
+            command: Some(RobotsCommand::Init(args)),
+            ..
+        }) => robots_init::init(&args),
+        Command::Robots(RobotsArgs {
+            command: Some(RobotsCommand::Check(args)),
+            ..
+        }) => robots_init::check(&args),
         Command::Robots(args) => robots::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use afford::plan_json::{plan_or_refusals, source_name, to_json};
-use afford_kinematics::RobotModel;
+use afford_kinematics::{PackagePaths, RobotModel};
 use afford_planner::scenario::{self, Scenario, bounds};
 use afford_planner::timing::TimingSettings;
 use afford_planner::{Plan, PlanError, PlanOptions};
@@ -15,7 +15,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     bounds::check_rate(args.rate)
         .map_err(|problem| Failure::new(ExitKind::BadInput, format!("--rate: {problem}")))?;
     let mut scenario = load(args.scenario.as_deref())?;
-    let robot = load_robot(&scenario, args.scenario.as_deref())?;
+    let robot = load_robot(&scenario, args.scenario.as_deref(), &args.packages.paths())?;
     if scenario.name.is_none() {
         scenario.name = Some(source_name(args.scenario.as_deref()));
     }
@@ -23,6 +23,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         seed: args.seed,
         until: args.until.into(),
         base_dir: base_dir(args.scenario.as_deref()),
+        packages: args.packages.paths(),
         timing: TimingSettings {
             rate_hz: args.rate,
             ..TimingSettings::default()
@@ -120,8 +121,12 @@ pub fn base_dir(scenario: Option<&Path>) -> PathBuf {
 
 /// The scenario's robot (`robot.model`), loaded as `plan` would: an unknown
 /// model or a broken description is bad input, named by field.
-pub fn load_robot(scenario: &Scenario, path: Option<&Path>) -> Result<RobotModel, Failure> {
-    RobotModel::load(&scenario.robot.model, &base_dir(path)).map_err(|e| {
+pub fn load_robot(
+    scenario: &Scenario,
+    path: Option<&Path>,
+    packages: &PackagePaths,
+) -> Result<RobotModel, Failure> {
+    RobotModel::load_with(&scenario.robot.model, &base_dir(path), packages).map_err(|e| {
         let file = path.map_or_else(
             || scenario::DEFAULT_SCENARIO_NAME.to_string(),
             |p| p.display().to_string(),

@@ -39,7 +39,8 @@ pub fn run(args: &RobotsArgs) -> Result<(), Failure> {
 /// the `allowed_collisions:` block (bad robot or settings: exit 2).
 pub fn acm(args: &AcmArgs) -> Result<(), Failure> {
     let bad = |e: String| Failure::new(ExitKind::BadInput, e);
-    let model = RobotModel::load(&args.robot, Path::new(".")).map_err(|e| bad(e.to_string()))?;
+    let model = RobotModel::load_with(&args.robot, Path::new("."), &args.packages.paths())
+        .map_err(|e| bad(e.to_string()))?;
     let settings = AcmSettings {
         samples: args.samples,
         seed: args.seed,

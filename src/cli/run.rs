@@ -59,7 +59,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     bounds::check_rate(args.rate)
         .map_err(|problem| Failure::new(ExitKind::BadInput, format!("--rate: {problem}")))?;
     let mut scenario = load(args.scenario.as_deref())?;
-    let robot = load_robot(&scenario, args.scenario.as_deref())?;
+    let robot = load_robot(&scenario, args.scenario.as_deref(), &args.packages.paths())?;
     if scenario.name.is_none() {
         scenario.name = Some(match &args.scenario {
             Some(p) => p
@@ -71,6 +71,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let options = PlanOptions {
         seed: args.seed,
         base_dir: base_dir(args.scenario.as_deref()),
+        packages: args.packages.paths(),
         timing: TimingSettings {
             rate_hz: args.rate,
             ..TimingSettings::default()

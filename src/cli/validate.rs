@@ -16,7 +16,7 @@ use super::{ExitKind, Failure, ValidateArgs};
 
 pub fn run(args: &ValidateArgs) -> Result<(), Failure> {
     let scenario = load(args.scenario.as_deref())?;
-    let robot = load_robot(&scenario, args.scenario.as_deref())?;
+    let robot = load_robot(&scenario, args.scenario.as_deref(), &args.packages.paths())?;
     let gripper = gripper_pixel(&scenario, &robot, args)?;
     print(&explain(&scenario, &robot, gripper, args.seed))?;
     // The scene is valid but the instruction cannot be executed: exit 1,

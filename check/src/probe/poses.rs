@@ -18,11 +18,7 @@ use crate::scene::{Footprint, GOAL_WALL, Piece};
 /// approach axis.
 pub(super) fn gripper_reach(r: &Robot, arms: &[ArmIk]) -> (f64, f64) {
     let links = r.kin.link_poses(r.model.home());
-    let moved_by = |link: usize| {
-        let mut j: Vec<usize> = r.kin.ancestry(link).iter().map(|a| a.slot).collect();
-        j.sort_unstable();
-        j
-    };
+    let moved_by = |link: usize| crate::check::moved_by_arms(r.model, &r.kin, link);
     let (mut tips, mut palm) = (0.0_f64, f64::INFINITY);
     for arm in arms {
         let tool = moved_by(arm.tool);

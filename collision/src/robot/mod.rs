@@ -312,10 +312,17 @@ impl RobotGeometry {
     /// Indices of bodies rigidly attached to the arm's tool frame: bodies
     /// moved by exactly the joints that move the tool link (for a tree, such
     /// links all hang rigidly below the deepest of those joints).
+    ///
+    /// Joints of no arm (a gripper's finger joints) never move while an arm
+    /// plans, so they are left out of the comparison: the fingers of a
+    /// gripper with its own joints count as rigid with the tool.
     pub(crate) fn tool_rigid_bodies(&self, tool_link: usize) -> Vec<usize> {
-        let mask = self.link_ancestors[tool_link];
+        let arm_joints = (self.model.arms().iter())
+            .flat_map(|a| a.joint_indices.iter())
+            .fold(0u128, |bits, &j| bits | 1 << j);
+        let mask = self.link_ancestors[tool_link] & arm_joints;
         (0..self.bodies.len())
-            .filter(|&b| self.link_ancestors[self.bodies[b].link] == mask)
+            .filter(|&b| self.link_ancestors[self.bodies[b].link] & arm_joints == mask)
             .collect()
     }
 }

@@ -24,13 +24,15 @@
 mod dae;
 mod formats;
 mod hull;
-mod resolve;
+pub(crate) mod resolve;
+mod surface;
 
 use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
 
 pub use resolve::PackagePaths;
+pub use surface::{MeshSurface, mesh_surfaces};
 
 use crate::bounds::MAX_MESH_FILE_BYTES;
 use crate::error::MeshProblem;

@@ -174,8 +174,9 @@ impl Monitor {
     /// `options`), from t = 0. `Err` when the robot cannot be loaded or the
     /// plan has no timed sub-goal.
     pub fn new(plan: Plan, scenario: &Scenario, options: &PlanOptions) -> Result<Self, PlanError> {
-        let robot = RobotModel::load(&scenario.robot.model, &options.base_dir)
-            .map_err(|e| PlanError::Robot(e.to_string()))?;
+        let robot =
+            RobotModel::load_with(&scenario.robot.model, &options.base_dir, &options.packages)
+                .map_err(|e| PlanError::Robot(e.to_string()))?;
         let geometry = RobotGeometry::new(&robot).map_err(|e| PlanError::Robot(e.to_string()))?;
         let opening = gripper_reach(&robot, &geometry)
             .map_err(PlanError::Robot)?

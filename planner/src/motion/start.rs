@@ -124,11 +124,12 @@ pub fn check_joints(scenario: &Scenario, robot: &RobotModel) -> Vec<FieldIssue> 
 pub fn check_stated_joints(
     scenario: &Scenario,
     base_dir: &std::path::Path,
+    packages: &afford_kinematics::PackagePaths,
 ) -> Result<(), crate::PlanError> {
     if scenario.robot.joints.is_none() {
         return Ok(());
     }
-    let robot = RobotModel::load(&scenario.robot.model, base_dir)
+    let robot = RobotModel::load_with(&scenario.robot.model, base_dir, packages)
         .map_err(|e| crate::PlanError::Robot(e.to_string()))?;
     let issues = check_joints(scenario, &robot);
     match issues.is_empty() {

@@ -60,6 +60,10 @@ pub struct PlanOptions {
     /// what `afford` does); a scenario built in code against `base_dir`,
     /// by default the current directory.
     pub base_dir: PathBuf,
+    /// Where `package://` collision meshes of a robot description are
+    /// looked for (the caller's folders, then `ROS_PACKAGE_PATH`, …; see
+    /// [`afford_kinematics::PackagePaths`]).
+    pub packages: afford_kinematics::PackagePaths,
 }
 
 /// Most re-plans a sub-goal may take ([`PlanOptions::max_replans`]).
@@ -151,6 +155,7 @@ impl Default for PlanOptions {
             max_replans: 5,
             max_arm_motions: 20,
             base_dir: PathBuf::from("."),
+            packages: afford_kinematics::PackagePaths::new(Vec::new()),
         }
     }
 }
