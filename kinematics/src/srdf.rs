@@ -31,24 +31,35 @@ pub struct NamedPosture {
 }
 
 /// What the SRDF says, by name.
-struct Srdf {
-    disabled: Vec<[String; 2]>,
-    states: Vec<GroupState>,
+pub(crate) struct Srdf {
+    pub(crate) disabled: Vec<[String; 2]>,
+    pub(crate) states: Vec<GroupState>,
 }
 
 /// A `group_state` as written.
-struct GroupState {
-    name: String,
-    group: String,
-    joints: Vec<(String, Real)>,
+pub(crate) struct GroupState {
+    pub(crate) name: String,
+    pub(crate) group: String,
+    pub(crate) joints: Vec<(String, Real)>,
+}
+
+/// The text of the SRDF at `path`, within the file-size bound.
+pub(crate) fn read_text(path: &Path) -> Result<String, KinematicsError> {
+    let text = crate::load::read_text(path)?;
+    crate::bounds::check_file_size(text.len() as u64)
+        .map_err(|problem| error(path, "<robot>".into(), problem))?;
+    Ok(text)
+}
+
+/// The disabled pairs and group states of `text`, the SRDF at `path`, as
+/// written (not yet checked against a model).
+pub(crate) fn parse_text(path: &Path, text: &str) -> Result<Srdf, KinematicsError> {
+    parse(text).map_err(|(element, problem)| error(path, element, problem))
 }
 
 /// Reads the SRDF at `path` into `model` (module docs).
 pub(crate) fn attach(model: &mut RobotModel, path: &Path) -> Result<(), KinematicsError> {
-    let text = crate::load::read_text(path)?;
-    crate::bounds::check_file_size(text.len() as u64)
-        .map_err(|problem| error(path, "<robot>".into(), problem))?;
-    let srdf = parse(&text).map_err(|(element, problem)| error(path, element, problem))?;
+    let srdf = parse_text(path, &read_text(path)?)?;
     let at = |element: String| move |problem: String| error(path, element.clone(), problem);
     for (k, [a, b]) in srdf.disabled.iter().enumerate() {
         let element = format!("disable_collisions #{}", k + 1);

@@ -1,7 +1,7 @@
 //! The SRDF elements `init` reads that loading does not: planning groups
-//! (`<chain>`, `<joint>` lists, nested `<group>`s), end effectors, and the
-//! group states and disabled pairs as written (the loader's `srdf` module
-//! checks them against the model later).
+//! (`<chain>`, `<joint>` lists, nested `<group>`s) and end effectors; the
+//! group states and disabled pairs come from the loader's `srdf` module, as
+//! written (it checks them against the model when the description loads).
 
 use std::path::Path;
 
@@ -40,19 +40,23 @@ pub(crate) struct Groups {
 
 /// Reads the SRDF at `path`.
 pub(crate) fn read(path: &Path) -> Result<Groups, KinematicsError> {
-    let text = crate::load::read_text(path)?;
+    let text = crate::srdf::read_text(path)?;
+    let written = crate::srdf::parse_text(path, &text)?;
     let err = |element: &str, problem: String| KinematicsError::Srdf {
         file: path.to_path_buf(),
         element: element.into(),
         problem,
     };
+    // `parse_text` has parsed the same text and found its root `<robot>`.
     let doc = Document::parse(&text).map_err(|e| err("<robot>", e.to_string()))?;
-    let root = doc.root_element();
-    if root.tag_name().name() != "robot" {
-        return Err(err("<robot>", "the root element is not <robot>".into()));
-    }
-    let mut out = Groups::default();
-    for n in root.children().filter(Node::is_element) {
+    let mut out = Groups {
+        states: (written.states.into_iter())
+            .map(|s| (s.name, s.joints))
+            .collect(),
+        disabled: written.disabled,
+        ..Groups::default()
+    };
+    for n in doc.root_element().children().filter(Node::is_element) {
         let attr = |a: &str| n.attribute(a).map(str::to_string);
         match n.tag_name().name() {
             "group" => out.groups.push(group(n)),
@@ -64,22 +68,6 @@ pub(crate) fn read(path: &Path) -> Result<Groups, KinematicsError> {
                 }),
                 None => return Err(err("end_effector", "has no parent_link".into())),
             },
-            "group_state" => {
-                let name = attr("name").unwrap_or_default();
-                let joints = (n.children())
-                    .filter(|j| j.tag_name().name() == "joint")
-                    .filter_map(|j| {
-                        let v = j.attribute("value")?.trim().parse::<Real>().ok()?;
-                        Some((j.attribute("name")?.to_string(), v))
-                    })
-                    .collect();
-                out.states.push((name, joints));
-            }
-            "disable_collisions" => {
-                if let (Some(a), Some(b)) = (attr("link1"), attr("link2")) {
-                    out.disabled.push([a, b]);
-                }
-            }
             _ => {}
         }
     }
