@@ -134,7 +134,8 @@ pub struct CheckStats {
     pub evaluations: u64,
     /// Exact shape-pair distance/contact queries.
     pub pair_queries: u64,
-    /// AABB lower-bound tests (broad phase).
+    /// Broad-phase lower-bound tests: AABBs against the scene, bounding
+    /// spheres between moving bodies.
     pub aabb_tests: u64,
 }
 

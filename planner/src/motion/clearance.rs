@@ -256,9 +256,9 @@ impl<'a> FreeMoves<'a> {
     }
 }
 
-/// The self-clearance screen of the path IK: is an arm configuration (the
-/// rest of the robot as in `rest`) clear of the robot's own bodies by
-/// [`SELF_CLEARANCE`]? It sees no scene: scene obstacles are the collision
+/// The self-clearance screen of the path IK: does an arm's joint path (the
+/// rest of the robot as in `rest`) keep [`SELF_CLEARANCE`] from the robot's
+/// own bodies? It sees no scene: scene obstacles are the collision
 /// stage's and the grid's, while an IK branch that folds an arm into the
 /// body is the IK's to avoid ([`afford_kinematics::Arm::solve_path_screened`]).
 pub struct SelfClearance<'a> {
@@ -268,9 +268,8 @@ pub struct SelfClearance<'a> {
     settings: afford_collision::CheckSettings,
 }
 
-/// Room the path IK keeps between the robot's own bodies at every waypoint,
-/// m: straight moves between waypoints a few centimetres apart then keep
-/// clear of the body too.
+/// Room the path IK keeps between the robot's own bodies along its joint
+/// path, m.
 pub const SELF_CLEARANCE: f64 = 0.01;
 
 impl<'a> SelfClearance<'a> {

@@ -57,7 +57,7 @@ pub const IK_START: IkStart = IkStart::Current;
 /// cost is from where the arm is either way. `Err` names each arm's first
 /// unreachable waypoint ([`Refusal::Unreachable`], [`Refusal::JointLimit`]),
 /// or a bad configuration or setting ([`Refusal::Internal`]). With a
-/// `screen`, each arm's IK prefers a branch whose every waypoint keeps the
+/// `screen`, each arm's IK prefers a branch whose joint path keeps the
 /// robot clear of itself ([`SelfClearance`]).
 pub fn solve_motions(
     robot: &RobotModel,

@@ -289,9 +289,7 @@ impl Replan {
             lowered: false,
         }
     }
-}
 
-impl Replan {
     /// The next pass after no arm reached the tool path within its joint
     /// limits (`joint_limit`) or at all (`unreachable`), as after a
     /// collision at the waypoint where each arm failed: a travel or carry
