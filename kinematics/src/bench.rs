@@ -40,7 +40,10 @@ pub struct ArmBench {
     pub k_median_us: Real,
 }
 
-fn is_success(arm: &Arm, q: &[Real], target: &Pose) -> bool {
+/// The benchmark's success criterion: `q` within the joint limits puts the
+/// tool within [`BENCH_POSITION_TOLERANCE`] and [`BENCH_ROTATION_TOLERANCE`]
+/// of `target`.
+pub fn is_success(arm: &Arm, q: &[Real], target: &Pose) -> bool {
     let (dp, dr) = pose_distance(&arm.fk(q), target);
     arm.within_limits(q, 1e-12) && dp <= BENCH_POSITION_TOLERANCE && dr <= BENCH_ROTATION_TOLERANCE
 }

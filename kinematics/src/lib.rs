@@ -36,7 +36,7 @@ mod urdf;
 
 pub use bench::{
     ArmBench, BENCH_POSITION_TOLERANCE, BENCH_ROTATION_TOLERANCE, IkBenchReport, bench_arm,
-    ik_benchmark, random_reachable_poses,
+    ik_benchmark, is_success as ik_bench_success, random_reachable_poses,
 };
 pub use builtin::{ArmSummary, NAMES as BUILTIN_ROBOTS, RobotSummary, builtin_robots};
 pub use choose::{ArmChoice, LIMIT_WEIGHT, NoArmReaches, choose_arm, path_cost};

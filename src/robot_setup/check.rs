@@ -14,8 +14,8 @@
 use std::path::Path;
 
 use afford_kinematics::{
-    BENCH_POSITION_TOLERANCE, BENCH_ROTATION_TOLERANCE, CameraSetup, IkSettings, IkTarget,
-    PackagePaths, RobotModel, Vec3, pose_distance, random_reachable_poses,
+    CameraSetup, IkSettings, IkTarget, PackagePaths, RobotModel, Vec3, ik_bench_success,
+    random_reachable_poses,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -194,12 +194,7 @@ fn ik_rate(arm: &afford_kinematics::Arm, o: &CheckOptions) -> IkRate {
     let solved = (targets.iter())
         .filter(|t| {
             arm.solve_ik(&IkTarget::Pose(**t), None, &settings, &mut rng)
-                .is_ok_and(|s| {
-                    let (dp, dr) = pose_distance(&arm.fk(&s.q), t);
-                    arm.within_limits(&s.q, 1e-12)
-                        && dp <= BENCH_POSITION_TOLERANCE
-                        && dr <= BENCH_ROTATION_TOLERANCE
-                })
+                .is_ok_and(|s| ik_bench_success(arm, &s.q, t))
         })
         .count();
     IkRate {
